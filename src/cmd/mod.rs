@@ -1,0 +1,3 @@
+//! One module per `hopsim` subcommand.
+
+pub mod lcp;
