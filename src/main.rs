@@ -20,12 +20,15 @@ struct Cli {
 enum Command {
     /// Linear complementarity problems: solve `.dat` files with Lemke's method.
     Lcp(cmd::lcp::LcpArgs),
+    /// Reduced models of the thesis: template, obstacle, impulsive wheel (docs/analysis.md).
+    Analyze(cmd::analyze::AnalyzeArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Lcp(args) => cmd::lcp::run(args),
+        Command::Analyze(args) => cmd::analyze::run(args),
     };
     match result {
         Ok(code) => code,

@@ -1,3 +1,5 @@
 //! One module per `hopsim` subcommand.
 
+pub mod analyze;
+pub mod exit;
 pub mod lcp;

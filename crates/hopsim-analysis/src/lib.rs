@@ -1,1 +1,26 @@
-//! hopsim-analysis
+//! Closed-form impact maps and reduced models of hopsim (physics.md §3 and §5).
+//!
+//! * [`impact`]: collision matrix, inelastic impacts, applied impulses (§3).
+//! * [`template`]: the four-map impulsive eccentric-wheel template (§5.1).
+//! * [`obstacle`]: energy to overcome a step by rolling, trivial and rotational hopping (§5.2).
+//! * [`impulsive_wheel`]: the take-off-angle return map of the impulsive wheel (§5.5).
+//! * [`plot`]: line plots, heatmaps and category maps as PNG + SVG.
+//! * [`output`]: atomic file writes and CSV tables; [`progress`]: parallel grids with a
+//!   progress bar; [`numerics`]: root finding, minimisation, Dormand–Prince.
+//!
+//! `docs/analysis.md` documents every equation, derivation and sign convention.
+
+pub mod error;
+pub mod impact;
+pub mod impulsive_wheel;
+pub mod numerics;
+pub mod obstacle;
+pub mod output;
+pub mod plot;
+pub mod progress;
+pub mod template;
+
+pub use error::{AnalysisError, Result};
+
+/// Gravitational acceleration used by default, `g = 9.81 m/s²` (physics.md §1).
+pub const STANDARD_GRAVITY: f64 = 9.81;

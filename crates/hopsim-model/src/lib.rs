@@ -1,1 +1,39 @@
-//! hopsim-model
+//! Planar multibody model in minimal (generalised) coordinates.
+//!
+//! A model is a floating base body `(x, y, φ)` plus child bodies on revolute joints
+//! (physics.md §1). It knows its mass matrix `M(q)`, the force vector `h(q, u, t)` and the
+//! contact kinematics (gaps `g_N`, directions `w_N`, `w_T`) of every potential contact
+//! between a body's contact shape and the terrain. The model is immutable once built;
+//! [`Workspace`] holds the reused buffers one evaluation needs.
+
+mod body;
+mod contact;
+mod forces;
+mod kinematics;
+mod model;
+mod shape;
+mod terrain;
+
+pub use body::{Body, Joint, JointCoordinate};
+pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
+pub use forces::Spring;
+pub use kinematics::Workspace;
+pub use model::{Model, ModelError};
+pub use shape::{Shape, ShapeInstance};
+pub use terrain::{Terrain, TerrainFeature};
+
+/// A 2-vector in the world or a body frame, metres.
+pub type Vec2 = nalgebra::Vector2<f64>;
+
+/// Rotates a body-frame vector by the angle `theta` (counter-clockwise).
+#[inline]
+pub fn rotate(theta: f64, v: Vec2) -> Vec2 {
+    let (s, c) = theta.sin_cos();
+    Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+}
+
+/// The vector `v` turned by +90°: `ω × v` for unit `ω` out of the plane.
+#[inline]
+pub fn perp(v: Vec2) -> Vec2 {
+    Vec2::new(-v.y, v.x)
+}

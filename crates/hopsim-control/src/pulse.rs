@@ -1,0 +1,120 @@
+//! CaneBot's open-loop bi-directional torque pulse and cane schedule (physics.md §5.4).
+
+use crate::{shape_gap, CaneMode, ControlEvent, ControlInput, Controller, PulseConfig};
+use hopsim_step::{Actuation, TorqueCommand};
+
+/// `+T` for `pulse_duration`, `-T` for `pulse_duration`, then idle, every period `P`;
+/// the cane follows its schedule but cannot extend while its tip is in the ground.
+pub struct Pulse {
+    config: PulseConfig,
+}
+
+impl Pulse {
+    pub fn new(config: PulseConfig) -> Self {
+        Self { config }
+    }
+
+    /// Motor torque at time `t`.
+    pub fn torque_at(&self, t: f64) -> f64 {
+        let c = &self.config;
+        let phase = t.rem_euclid(c.period);
+        if phase < c.pulse_duration {
+            c.torque
+        } else if phase < 2.0 * c.pulse_duration {
+            -c.torque
+        } else {
+            0.0
+        }
+    }
+
+    /// Whether the schedule wants the cane extended at time `t`.
+    pub fn cane_wanted(&self, t: f64) -> bool {
+        match self.config.cane {
+            CaneMode::Retracted => false,
+            CaneMode::Extended => true,
+            CaneMode::Timed { delay, duration } => {
+                let fraction = (t / self.config.period).rem_euclid(1.0);
+                (fraction - delay).rem_euclid(1.0) < duration
+            }
+        }
+    }
+}
+
+impl Controller for Pulse {
+    fn control(
+        &mut self,
+        input: &ControlInput<'_>,
+        actuation: &mut Actuation,
+        events: &mut Vec<ControlEvent>,
+    ) {
+        let t = input.state.t;
+        let joint = input.model.bodies[self.config.joint_body].joint.as_ref();
+        actuation.torques.push(TorqueCommand {
+            body: self.config.joint_body,
+            reaction: joint.map(|j| j.parent),
+            torque: self.torque_at(t),
+        });
+        if let Some(cane) = self.config.cane_shape {
+            let wanted = self.cane_wanted(t);
+            let active = input.shapes_active[cane];
+            let free = || shape_gap(input.model, input.kinematics, cane) > 0.0;
+            if wanted != active && (!wanted || free()) {
+                events.push(ControlEvent::ShapeSwitch {
+                    shape: cane,
+                    active: wanted,
+                });
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pulse(cane: CaneMode) -> Pulse {
+        Pulse::new(PulseConfig {
+            joint_body: 1,
+            torque: 0.4,
+            pulse_duration: 0.1,
+            period: 1.0 / 2.8,
+            cane_shape: Some(0),
+            cane,
+        })
+    }
+
+    #[test]
+    fn torque_is_a_bidirectional_pulse_each_period() {
+        let p = pulse(CaneMode::Retracted);
+        let period = 1.0 / 2.8;
+        for k in 0..3 {
+            let t0 = k as f64 * period;
+            assert_eq!(p.torque_at(t0 + 0.05), 0.4);
+            assert_eq!(p.torque_at(t0 + 0.15), -0.4);
+            assert_eq!(p.torque_at(t0 + 0.3), 0.0);
+        }
+    }
+
+    #[test]
+    fn timed_cane_wraps_across_periods() {
+        let period = 1.0 / 2.8;
+        let p = pulse(CaneMode::Timed {
+            delay: 0.8,
+            duration: 0.5,
+        });
+        // Extended from 0.8 P to 1.3 P, i.e. [0.8, 1) and [0, 0.3) of every period.
+        for (fraction, wanted) in [
+            (0.1, true),
+            (0.29, true),
+            (0.31, false),
+            (0.79, false),
+            (0.85, true),
+        ] {
+            assert_eq!(
+                p.cane_wanted((2.0 + fraction) * period),
+                wanted,
+                "at {fraction}"
+            );
+        }
+    }
+}

@@ -1,0 +1,98 @@
+//! The a-posteriori certificate of an LCP answer, computed from the original `M`, `q`.
+
+/// How well `(z, w)` satisfies `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`.
+///
+/// `tolerance = rel_tol · max(‖q‖_∞, ‖M‖_∞ ‖z‖_∞)`: a backward-error style scale, so the
+/// test means the same for a contact LCP with `q ~ 1e-3` as for one with `q ~ 1e3`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Certificate {
+    /// `max_i |min(z_i, w_i)|`.
+    pub complementarity: f64,
+    /// `min(0, min_i z_i, min_i w_i)` (so always `≤ 0`).
+    pub most_negative: f64,
+    /// `‖w − M z − q‖_∞`.
+    pub residual: f64,
+    /// The scaled tolerance the three numbers are held to.
+    pub tolerance: f64,
+}
+
+impl Certificate {
+    /// All three measures within `tolerance` (false if any is NaN).
+    pub fn holds(&self) -> bool {
+        self.complementarity <= self.tolerance
+            && self.most_negative >= -self.tolerance
+            && self.residual <= self.tolerance
+    }
+}
+
+/// The original problem with the norms its certificates are scaled by.
+pub(crate) struct ProblemRef<'a> {
+    /// `M`, an exact column-major copy with column stride `ld` (zero padding rows).
+    pub m: &'a [f64],
+    pub ld: usize,
+    pub q: &'a [f64],
+    /// `‖M‖_∞` (maximum absolute row sum).
+    pub m_norm: f64,
+    /// `‖q‖_∞`.
+    pub q_norm: f64,
+    pub rel_tol: f64,
+}
+
+impl ProblemRef<'_> {
+    /// `M_ij`.
+    #[inline(always)]
+    pub fn m(&self, i: usize, j: usize) -> f64 {
+        self.m[j * self.ld + i]
+    }
+
+    /// Certificate of `(z, w)`; `mz` is scratch of length `ld`. Allocates nothing.
+    #[inline(always)]
+    pub fn certify(&self, z: &[f64], w: &[f64], mz: &mut [f64]) -> Certificate {
+        let n = self.q.len();
+        let ld = self.ld;
+        let (z, w, mz) = (&z[..n], &w[..n], &mut mz[..ld]);
+        crate::tableau::set_padded(mz, 1.0, self.q);
+        let mut z_norm: f64 = 0.0;
+        for (j, &zj) in z.iter().enumerate() {
+            let a = zj.abs();
+            z_norm = if a > z_norm { a } else { z_norm };
+            if zj != 0.0 {
+                crate::tableau::sub_scaled(mz, -zj, &self.m[j * ld..(j + 1) * ld]);
+            }
+        }
+        let mut complementarity: f64 = 0.0;
+        let mut most_negative: f64 = 0.0;
+        let mut residual: f64 = 0.0;
+        let mut sum = 0.0;
+        for ((&zi, &wi), &ri) in z.iter().zip(w).zip(mz.iter()) {
+            let low = if zi < wi { zi } else { wi };
+            let c = low.abs();
+            complementarity = if c > complementarity {
+                c
+            } else {
+                complementarity
+            };
+            most_negative = if low < most_negative {
+                low
+            } else {
+                most_negative
+            };
+            let r = (wi - ri).abs();
+            residual = if r > residual { r } else { residual };
+            sum += zi + wi;
+        }
+        if !sum.is_finite() {
+            // The comparisons above skip NaN: make a non-finite iterate fail loudly.
+            complementarity = f64::NAN;
+            most_negative = f64::NAN;
+            residual = f64::NAN;
+        }
+        let scale = self.q_norm.max(self.m_norm * z_norm).max(f64::MIN_POSITIVE);
+        Certificate {
+            complementarity,
+            most_negative,
+            residual,
+            tolerance: self.rel_tol * scale,
+        }
+    }
+}

@@ -1,0 +1,334 @@
+//! The hot path of a solve: validation, the trivial case, one Lemke run with the
+//! configured covering vector, extraction and certificate. It is compiled once per small
+//! `n` (fixed loop bounds) and, on x86-64, once more with AVX2 enabled (selected at run
+//! time). AVX2 only widens the vectors: no fused multiply-add, so every path gives
+//! bit-identical results.
+
+use crate::certificate::ProblemRef;
+use crate::tableau::{
+    self, inv_pow2_floor, leading_dim, pow2_floor, Ending, Scales, Work, MAX_FIXED,
+};
+use crate::{Certificate, LcpInputError};
+use nalgebra::DMatrixView;
+
+/// How the hot path ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum End {
+    /// `q ≥ 0`: `z = 0`, `w = q`.
+    Trivial,
+    /// Lemke's method ended on a basis whose solution certifies.
+    Solved,
+    /// Anything else; `z`, `w` are unspecified.
+    Failed(Ending),
+}
+
+/// Result of the hot path.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Primary {
+    pub end: End,
+    pub pivots: usize,
+    pub m_norm: f64,
+    pub q_norm: f64,
+    pub scales: Scales,
+    pub certificate: Certificate,
+}
+
+impl Default for Primary {
+    fn default() -> Self {
+        Primary {
+            end: End::Trivial,
+            pivots: 0,
+            m_norm: 0.0,
+            q_norm: 0.0,
+            scales: Scales::new(1.0, 1.0, 1.0),
+            certificate: Certificate::default(),
+        }
+    }
+}
+
+/// Inputs of the hot path besides the problem.
+pub(crate) struct Settings {
+    pub rel_tol: f64,
+    pub max_pivots: usize,
+}
+
+/// Runs the hot path for `(M, q)` with covering vector `work.cover`; writes `z`, `w`
+/// (length `n`) and the copy of `M` (length `ld·n`) the certificates use. Errors on a
+/// non-finite entry.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn primary(
+    work: &mut Work,
+    m_copy: &mut [f64],
+    m: &DMatrixView<'_, f64>,
+    q: &[f64],
+    z: &mut [f64],
+    w: &mut [f64],
+    settings: &Settings,
+    out: &mut Primary,
+) -> Result<(), LcpInputError> {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, the only requirement of `primary_avx2`.
+        return unsafe { primary_avx2(work, m_copy, m, q, z, w, settings, out) };
+    }
+    primary_portable(work, m_copy, m, q, z, w, settings, out)
+}
+
+/// Calls `$f::<N>` for `n = N ≤ MAX_FIXED`, else `$dynamic`.
+macro_rules! by_size {
+    ($n:expr, $f:ident, $dynamic:expr, ($($arg:expr),*)) => {{
+        const _: () = assert!(MAX_FIXED == 12);
+        match $n {
+            1 => $f::<1>($($arg),*),
+            2 => $f::<2>($($arg),*),
+            3 => $f::<3>($($arg),*),
+            4 => $f::<4>($($arg),*),
+            5 => $f::<5>($($arg),*),
+            6 => $f::<6>($($arg),*),
+            7 => $f::<7>($($arg),*),
+            8 => $f::<8>($($arg),*),
+            9 => $f::<9>($($arg),*),
+            10 => $f::<10>($($arg),*),
+            11 => $f::<11>($($arg),*),
+            12 => $f::<12>($($arg),*),
+            _ => $dynamic,
+        }
+    }};
+}
+
+#[allow(clippy::too_many_arguments)]
+fn primary_portable(
+    work: &mut Work,
+    m_copy: &mut [f64],
+    m: &DMatrixView<'_, f64>,
+    q: &[f64],
+    z: &mut [f64],
+    w: &mut [f64],
+    s: &Settings,
+    out: &mut Primary,
+) -> Result<(), LcpInputError> {
+    let n = q.len();
+    by_size!(
+        n,
+        fixed_portable,
+        core(n, work, m_copy, m, q, z, w, s, out),
+        (work, m_copy, m, q, z, w, s, out)
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn fixed_portable<const N: usize>(
+    work: &mut Work,
+    m_copy: &mut [f64],
+    m: &DMatrixView<'_, f64>,
+    q: &[f64],
+    z: &mut [f64],
+    w: &mut [f64],
+    s: &Settings,
+    out: &mut Primary,
+) -> Result<(), LcpInputError> {
+    core(N, work, m_copy, m, q, z, w, s, out)
+}
+
+#[allow(clippy::too_many_arguments)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn primary_avx2(
+    work: &mut Work,
+    m_copy: &mut [f64],
+    m: &DMatrixView<'_, f64>,
+    q: &[f64],
+    z: &mut [f64],
+    w: &mut [f64],
+    s: &Settings,
+    out: &mut Primary,
+) -> Result<(), LcpInputError> {
+    let n = q.len();
+    by_size!(
+        n,
+        fixed_avx2,
+        core(n, work, m_copy, m, q, z, w, s, out),
+        (work, m_copy, m, q, z, w, s, out)
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+fn fixed_avx2<const N: usize>(
+    work: &mut Work,
+    m_copy: &mut [f64],
+    m: &DMatrixView<'_, f64>,
+    q: &[f64],
+    z: &mut [f64],
+    w: &mut [f64],
+    s: &Settings,
+    out: &mut Primary,
+) -> Result<(), LcpInputError> {
+    core(N, work, m_copy, m, q, z, w, s, out)
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn core(
+    n: usize,
+    work: &mut Work,
+    m_copy: &mut [f64],
+    m: &DMatrixView<'_, f64>,
+    q: &[f64],
+    z: &mut [f64],
+    w: &mut [f64],
+    s: &Settings,
+    out: &mut Primary,
+) -> Result<(), LcpInputError> {
+    let q = &q[..n];
+    let (z, w) = (&mut z[..n], &mut w[..n]);
+    let mut q_norm: f64 = 0.0;
+    let mut q_min = f64::INFINITY;
+    let mut q_sum = 0.0;
+    for &v in q {
+        q_sum += v;
+        let a = v.abs();
+        q_norm = if a > q_norm { a } else { q_norm };
+        q_min = if v < q_min { v } else { q_min };
+    }
+    if !q_sum.is_finite() {
+        if let Some(index) = q.iter().position(|v| !v.is_finite()) {
+            return Err(LcpInputError::NonFinite { what: "q", index });
+        }
+        q_norm = f64::MAX;
+    }
+
+    let mut t = work.parts(n);
+    let ld = leading_dim(n);
+    let m_copy = &mut m_copy[..ld * n];
+    let mut m_norm = tableau::copy_matrix(n, m, m_copy, t.row_sum);
+    if !m_norm.is_finite() {
+        m_norm = nonfinite_entry(m)?;
+    }
+    *out = Primary {
+        m_norm,
+        q_norm,
+        ..Primary::default()
+    };
+    if n == 0 || q_min >= 0.0 {
+        z.fill(0.0);
+        w.copy_from_slice(q);
+    } else {
+        let q_inv = inv_pow2_floor(q_norm);
+        let m_inv = tableau::load(n, &mut t, m_copy, q, q_inv, m_norm);
+        out.scales = Scales::new(q_inv, m_inv, pow2_floor(q_norm));
+        let (ending, pivots) = tableau::pivot_loop(n, &mut t, s.max_pivots);
+        out.end = End::Failed(ending);
+        out.pivots = pivots;
+        if ending != Ending::Complementary || !tableau::extract(n, &t, &out.scales, z, w) {
+            return Ok(());
+        }
+    }
+    let p = ProblemRef {
+        m: m_copy,
+        ld,
+        q,
+        m_norm,
+        q_norm,
+        rel_tol: s.rel_tol,
+    };
+    out.certificate = p.certify(z, w, t.mz);
+    if out.end != End::Trivial && out.certificate.holds() {
+        out.end = End::Solved;
+    }
+    Ok(())
+}
+
+/// After a non-finite `‖M‖_∞`: the first non-finite entry of `M` (row-major) as an
+/// error, or `f64::MAX` if all entries are finite (the row sums overflowed).
+#[cold]
+#[inline(never)]
+fn nonfinite_entry(m: &DMatrixView<'_, f64>) -> Result<f64, LcpInputError> {
+    let n = m.nrows();
+    for i in 0..n {
+        for j in 0..n {
+            if !m[(i, j)].is_finite() {
+                return Err(LcpInputError::NonFinite {
+                    what: "M",
+                    index: i * n + j,
+                });
+            }
+        }
+    }
+    Ok(f64::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{DMatrix, DVector};
+
+    /// The AVX2 build of the hot path must give bit-identical results to the portable one.
+    #[test]
+    fn avx2_and_portable_paths_agree_bit_for_bit() {
+        #[cfg(target_arch = "x86_64")]
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let settings = Settings {
+            rel_tol: 1e-9,
+            max_pivots: 10_000,
+        };
+        for n in (1..=16).chain([23, 40]) {
+            for _ in 0..20 {
+                let a = DMatrix::from_fn(n, n, |_, _| uniform());
+                // Half PSD (solvable), half general (rays, pivot limits, breakdowns).
+                let m = if uniform() > 0.0 {
+                    &a * a.transpose()
+                } else {
+                    a
+                };
+                let q = DVector::from_fn(n, |_, _| uniform());
+                let ld = leading_dim(n);
+                let mut results = Vec::new();
+                for simd in [false, true] {
+                    let mut work = Work::default();
+                    work.reserve(n);
+                    work.parts(n).cover.fill(1.0);
+                    let mut m_copy = vec![0.0; ld * n];
+                    let (mut z, mut w) = (vec![0.0; n], vec![0.0; n]);
+                    let (mv, qv) = (m.as_view(), q.as_slice());
+                    let mut prim = Primary::default();
+                    let (zs, ws, out) = (&mut z, &mut w, &mut prim);
+                    let (mc, wk, st) = (&mut m_copy, &mut work, &settings);
+                    if simd {
+                        // SAFETY: AVX2 support was checked above.
+                        #[cfg(target_arch = "x86_64")]
+                        unsafe {
+                            primary_avx2(wk, mc, &mv, qv, zs, ws, st, out)
+                        }
+                        #[cfg(not(target_arch = "x86_64"))]
+                        primary_portable(wk, mc, &mv, qv, zs, ws, st, out)
+                    } else {
+                        primary_portable(wk, mc, &mv, qv, zs, ws, st, out)
+                    }
+                    .unwrap();
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    results.push((
+                        prim.end,
+                        prim.pivots,
+                        bits(&z),
+                        bits(&w),
+                        prim.certificate.residual.to_bits(),
+                    ));
+                }
+                assert_eq!(results[0], results[1], "n = {n}");
+            }
+        }
+    }
+}

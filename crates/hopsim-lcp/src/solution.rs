@@ -1,0 +1,97 @@
+//! What a solve returns: status, iterate, pivot count, certificate, method.
+
+use crate::Certificate;
+use nalgebra::DVector;
+
+/// Outcome of a solve. Only [`LcpStatus::Solved`] claims a solution, and only when its
+/// [`Certificate`] holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LcpStatus {
+    /// `z`, `w` satisfy the LCP within the certificate's tolerance.
+    Solved,
+    /// Lemke's method left along an unbounded ray (the LCP may have no solution), and the
+    /// fallbacks, if enabled, found none either.
+    RayTermination,
+    /// The pivot limit was reached.
+    PivotLimit,
+    /// Lemke's method ended but its result does not certify (round-off), or the tableau
+    /// became non-finite.
+    NumericalBreakdown,
+}
+
+impl LcpStatus {
+    /// `"solved"`, `"ray_termination"`, `"pivot_limit"` or `"numerical_breakdown"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LcpStatus::Solved => "solved",
+            LcpStatus::RayTermination => "ray_termination",
+            LcpStatus::PivotLimit => "pivot_limit",
+            LcpStatus::NumericalBreakdown => "numerical_breakdown",
+        }
+    }
+}
+
+impl std::fmt::Display for LcpStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Which method produced the reported `z`, `w`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SolveMethod {
+    /// `q ≥ 0`: `z = 0`, `w = q`, no pivots.
+    Trivial,
+    /// Lemke's method with the configured covering vector.
+    Lemke,
+    /// Lemke's method with the alternate covering vector (fallback).
+    LemkeAlternateCovering,
+    /// Exhaustive enumeration of complementary bases (fallback, small `n` only).
+    Enumeration,
+}
+
+impl SolveMethod {
+    /// `"trivial"`, `"lemke"`, `"lemke_alternate_covering"` or `"enumeration"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SolveMethod::Trivial => "trivial",
+            SolveMethod::Lemke => "lemke",
+            SolveMethod::LemkeAlternateCovering => "lemke_alternate_covering",
+            SolveMethod::Enumeration => "enumeration",
+        }
+    }
+}
+
+impl std::fmt::Display for SolveMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Result of one solve of `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`.
+///
+/// On a failure status `z`, `w` hold the last Lemke iterate (zeros if it was not finite);
+/// its certificate then does not hold.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LcpSolution {
+    pub status: LcpStatus,
+    pub z: DVector<f64>,
+    pub w: DVector<f64>,
+    /// Pivots of all Lemke runs of this solve (primary plus alternate covering).
+    pub pivots: usize,
+    pub certificate: Certificate,
+    pub method: SolveMethod,
+}
+
+impl LcpSolution {
+    pub(crate) fn empty() -> Self {
+        LcpSolution {
+            status: LcpStatus::Solved,
+            z: DVector::zeros(0),
+            w: DVector::zeros(0),
+            pivots: 0,
+            certificate: Certificate::default(),
+            method: SolveMethod::Trivial,
+        }
+    }
+}

@@ -1,0 +1,624 @@
+//! The pivoting core of Lemke's method with the lexicographic minimum-ratio test
+//! (Murty, "Linear Complementarity, Linear and Nonlinear Programming", ch. 2).
+//!
+//! The tableau of `w − M z − d z0 = q` is column-major in one flat buffer of `2n + 2`
+//! columns: `[rhs | w_1..w_n (= B⁻¹) | z_1..z_n | z0]`, each padded with zero rows to
+//! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors. The `w`
+//! block is `B⁻¹` at every step, which is what the lexicographic test compares. A pivot
+//! updates only the right-hand side and the `n + 1` non-basic columns (kept in a list).
+//! Everything here is `#[inline(always)]` so that `primary.rs` can specialise it for each
+//! small `n` (fixed trip counts) and instruction set.
+
+use nalgebra::DMatrixView;
+
+/// Entries of the entering column at most `PIV_TOL · max(1, max_i |col_i|)` cannot pivot.
+const PIV_TOL: f64 = 1e-12;
+/// Ratios within `TIE_TOL · max(1, |θ|)` of the minimum count as ties (scaled problem).
+/// Contact LCPs have structural ties at non-zero ratios (friction components vanishing
+/// together with the normal impulse) whose computed ratios differ by round-off amplified
+/// through the pivots; tighter values (1e-12 and below) let that noise break the ties
+/// and send Lemke's path to spurious ray terminations.
+const TIE_TOL: f64 = 1e-9;
+
+/// Largest `n` whose entering column is copied to the stack during a pivot.
+pub(crate) const MAX_FIXED: usize = 12;
+
+/// Column stride of the tableau for problem size `n`: `n` rounded up to a multiple of 4.
+pub(crate) const fn leading_dim(n: usize) -> usize {
+    (n + 3) & !3
+}
+
+/// How one Lemke run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Ending {
+    /// `z0` left the basis: a complementary basis (still to be certified).
+    Complementary,
+    /// The entering column has no positive entry: a secondary ray.
+    Ray,
+    PivotLimit,
+    /// A non-finite tableau entry.
+    Breakdown,
+}
+
+/// Exact power-of-two factors between the original and the internal problem.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Scales {
+    /// Internal `q = q·q_inv` (internal `M = M·m_inv`).
+    pub q_inv: f64,
+    /// Original `z = z_int·z`, `w = w_int·w`.
+    pub z: f64,
+    pub w: f64,
+}
+
+impl Scales {
+    /// From the internal factors `q_inv`, `m_inv` (powers of two, so the products below
+    /// are exact).
+    pub fn new(q_inv: f64, m_inv: f64, q_pow: f64) -> Self {
+        Scales {
+            q_inv,
+            z: m_inv * q_pow,
+            w: q_pow,
+        }
+    }
+}
+
+/// `x ← x − f·y` over whole groups of four (all of a group's loads come before its stores,
+/// so the compiler vectorises without having to prove that `x` and `y` do not overlap).
+/// Lengths are multiples of 4 (`leading_dim`); a shorter tail is left alone.
+#[inline(always)]
+pub(crate) fn sub_scaled(x: &mut [f64], f: f64, y: &[f64]) {
+    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
+        let v = [
+            xc[0] - f * yc[0],
+            xc[1] - f * yc[1],
+            xc[2] - f * yc[2],
+            xc[3] - f * yc[3],
+        ];
+        xc.copy_from_slice(&v);
+    }
+}
+
+/// Unit vectors of one group of four, as constants (loading one never waits on a store).
+const ONE_HOT: [[f64; 4]; 4] = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+    [0.0, 0.0, 0.0, 1.0],
+];
+
+/// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
+/// row mask) is set, all in whole-group vector stores. (A scalar store into a column that
+/// the next pivot reads back with vector loads stalls store-to-load forwarding.)
+#[inline(always)]
+fn eliminate(x: &mut [f64], f: f64, y: &[f64], hot: &[f64]) {
+    for ((xc, yc), hc) in x
+        .chunks_exact_mut(4)
+        .zip(y.chunks_exact(4))
+        .zip(hot.chunks_exact(4))
+    {
+        let mut v = [0.0; 4];
+        for k in 0..4 {
+            let e = xc[k] - f * yc[k];
+            v[k] = if hc[k] != 0.0 { f } else { e };
+        }
+        xc.copy_from_slice(&v);
+    }
+}
+
+/// `x ← e_r` in whole-group vector stores (see [`eliminate`]).
+#[inline(always)]
+fn set_unit(x: &mut [f64], r: usize) {
+    let (gr, hot) = (r / 4, &ONE_HOT[r % 4]);
+    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
+        xc.copy_from_slice(if g == gr { hot } else { &[0.0; 4] });
+    }
+}
+
+/// `x ← f·src` on the first `src.len()` entries and zero on the rest of `x`, in whole-group
+/// vector stores (see [`eliminate`]).
+#[inline(always)]
+pub(crate) fn set_padded(x: &mut [f64], f: f64, src: &[f64]) {
+    let n = src.len();
+    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
+        let mut v = [0.0; 4];
+        for (k, vk) in v.iter_mut().enumerate() {
+            let i = 4 * g + k;
+            *vk = if i < n { f * src[i] } else { 0.0 };
+        }
+        xc.copy_from_slice(&v);
+    }
+}
+
+/// `x ← f·y` over whole groups of four (see [`sub_scaled`]).
+#[inline(always)]
+fn set_scaled(x: &mut [f64], f: f64, y: &[f64]) {
+    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
+        let v = [f * yc[0], f * yc[1], f * yc[2], f * yc[3]];
+        xc.copy_from_slice(&v);
+    }
+}
+
+/// `1 / pow2_floor(x)`, exactly, without a division.
+#[inline(always)]
+pub(crate) fn inv_pow2_floor(x: f64) -> f64 {
+    let e = (x.to_bits() >> 52) & 0x7ff;
+    match e {
+        0 | 0x7ff => 1.0,
+        0x7fe => f64::from_bits(1 << 51), // 2^-1023, subnormal
+        _ => f64::from_bits((0x7fe - e) << 52),
+    }
+}
+
+/// The largest power of two `≤ x` (1 for zero, subnormal or non-finite `x`).
+#[inline(always)]
+pub(crate) fn pow2_floor(x: f64) -> f64 {
+    let p = f64::from_bits(x.to_bits() & 0x7ff0_0000_0000_0000);
+    if p == 0.0 || !p.is_finite() {
+        1.0
+    } else {
+        p
+    }
+}
+
+/// A `Vec<f64>` whose exposed part starts on a 64-byte boundary, so SIMD column updates
+/// touch whole cache lines (the allocator only guarantees 16 bytes).
+#[derive(Debug, Default)]
+pub(crate) struct Aligned {
+    data: Vec<f64>,
+    off: usize,
+}
+
+impl Aligned {
+    /// Makes at least `len` entries available (never shrinks).
+    pub fn reserve(&mut self, len: usize) {
+        if self.data.len() < len + 7 {
+            self.data.resize(len + 7, 0.0);
+        }
+        self.off = (self.data.as_ptr() as usize / 8).wrapping_neg() % 8;
+    }
+
+    pub fn as_slice(&self) -> &[f64] {
+        &self.data[self.off..]
+    }
+
+    pub fn as_mut_slice(&mut self) -> &mut [f64] {
+        &mut self.data[self.off..]
+    }
+}
+
+impl Clone for Aligned {
+    fn clone(&self) -> Self {
+        let mut copy = Aligned::default();
+        let len = self.data.len().saturating_sub(7);
+        copy.reserve(len);
+        copy.as_mut_slice()[..len].copy_from_slice(&self.as_slice()[..len]);
+        copy
+    }
+}
+
+/// Reusable buffers of the pivoting core, grown by [`Work::reserve`].
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Work {
+    /// `ld·(2n + 2)`, column-major.
+    tab: Aligned,
+    /// `n`: the basic variable of each row (`0..n` w, `n..2n` z, `2n` z0).
+    basis: Vec<usize>,
+    /// `n + 1`: the non-basic variables.
+    nonbasic: Vec<usize>,
+    /// `2n + 1`: position of each non-basic variable in `nonbasic`.
+    nb_pos: Vec<usize>,
+    /// `ld`: copy of the entering column.
+    col: Vec<f64>,
+    /// `ld`, `n`: ratio-test scratch.
+    theta: Vec<f64>,
+    ties: Vec<usize>,
+    /// `n`: the covering vector of the next run.
+    cover: Vec<f64>,
+    /// `ld`: absolute row sums of `M`.
+    row_sum: Vec<f64>,
+    /// `ld`: `M z + q` scratch of the certificate.
+    mz: Vec<f64>,
+}
+
+/// Disjoint views of the buffers of [`Work`] for problem size `n`, passed to the core
+/// functions as separate slices (separate `&mut` arguments cannot alias, so the compiler
+/// keeps values in registers and vectorises; fields reached through one struct could).
+pub(crate) struct Parts<'a> {
+    pub tab: &'a mut [f64],
+    pub basis: &'a mut [usize],
+    pub nonbasic: &'a mut [usize],
+    pub nb_pos: &'a mut [usize],
+    pub col: &'a mut [f64],
+    pub theta: &'a mut [f64],
+    pub ties: &'a mut [usize],
+    pub cover: &'a mut [f64],
+    pub row_sum: &'a mut [f64],
+    pub mz: &'a mut [f64],
+}
+
+impl Work {
+    /// The buffers cut to size `n` (after [`Work::reserve`]).
+    #[inline(always)]
+    pub fn parts(&mut self, n: usize) -> Parts<'_> {
+        let ld = leading_dim(n);
+        Parts {
+            tab: &mut self.tab.as_mut_slice()[..ld * (2 * n + 2)],
+            basis: &mut self.basis[..n],
+            nonbasic: &mut self.nonbasic[..n + 1],
+            nb_pos: &mut self.nb_pos[..2 * n + 1],
+            col: &mut self.col[..ld],
+            theta: &mut self.theta[..ld],
+            ties: &mut self.ties[..n],
+            cover: &mut self.cover[..n],
+            row_sum: &mut self.row_sum[..ld],
+            mz: &mut self.mz[..ld],
+        }
+    }
+
+    pub fn reserve(&mut self, n: usize) {
+        let ld = leading_dim(n);
+        self.tab.reserve(ld * (2 * n + 2));
+        self.basis.resize(n, 0);
+        self.nonbasic.resize(n + 1, 0);
+        self.nb_pos.resize(2 * n + 1, 0);
+        self.col.resize(ld, 0.0);
+        self.theta.resize(ld, 0.0);
+        self.ties.resize(n, 0);
+        self.cover.resize(n, 0.0);
+        self.row_sum.resize(ld, 0.0);
+        self.mz.resize(ld, 0.0);
+    }
+}
+
+/// Copies `M` into `copy` (column-major, stride `ld`, zero padding rows) and returns
+/// `‖M‖_∞`; a non-finite result means `M` has a non-finite entry (or row sums overflow).
+/// `row_sum` is scratch of length `ld`.
+#[inline(always)]
+pub(crate) fn copy_matrix(
+    n: usize,
+    m: &DMatrixView<'_, f64>,
+    copy: &mut [f64],
+    row_sum: &mut [f64],
+) -> f64 {
+    let ld = leading_dim(n);
+    let copy = &mut copy[..ld * n];
+    for (j, dst) in copy.chunks_exact_mut(ld).enumerate() {
+        let src = m.column(j);
+        set_padded(dst, 1.0, &src.as_slice()[..n]);
+    }
+    // Small n: accumulate on the stack (registers).
+    let mut local = [0.0; leading_dim(MAX_FIXED)];
+    let row_sum = if n <= MAX_FIXED {
+        &mut local[..ld]
+    } else {
+        &mut row_sum[..ld]
+    };
+    row_sum.fill(0.0);
+    for col in copy.chunks_exact(ld) {
+        for (s, &v) in row_sum.iter_mut().zip(col) {
+            *s += v.abs();
+        }
+    }
+    // Four lanes: independent chains. The sum exposes NaN and ∞ (max skips NaN).
+    let (mut max4, mut sum4) = ([0.0_f64; 4], [0.0; 4]);
+    for s4 in row_sum.chunks_exact(4) {
+        for k in 0..4 {
+            max4[k] = if s4[k] > max4[k] { s4[k] } else { max4[k] };
+            sum4[k] += s4[k];
+        }
+    }
+    let m_norm = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
+    if ((sum4[0] + sum4[1]) + (sum4[2] + sum4[3])).is_finite() {
+        m_norm
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Loads `[q·q_inv | I | −M·m_inv | −d]` (`M` the copy made by [`copy_matrix`],
+/// `d = work.cover`) with basis `w`; returns `m_inv = 1 / pow2_floor(m_norm)`.
+#[inline(always)]
+pub(crate) fn load(
+    n: usize,
+    t: &mut Parts<'_>,
+    m_copy: &[f64],
+    q: &[f64],
+    q_inv: f64,
+    m_norm: f64,
+) -> f64 {
+    load_slices(
+        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.cover, m_copy, q, q_inv, m_norm,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn load_slices(
+    n: usize,
+    tab: &mut [f64],
+    basis: &mut [usize],
+    nonbasic: &mut [usize],
+    nb_pos: &mut [usize],
+    cover: &[f64],
+    m_copy: &[f64],
+    q: &[f64],
+    q_inv: f64,
+    m_norm: f64,
+) -> f64 {
+    let ld = leading_dim(n);
+    let tab = &mut tab[..ld * (2 * n + 2)];
+    let q = &q[..n];
+    let (rhs, rest) = tab.split_at_mut(ld);
+    let (eye, rest) = rest.split_at_mut(n * ld);
+    let (zcols, dcol) = rest.split_at_mut(n * ld);
+    set_padded(rhs, q_inv, q);
+    for (i, e) in eye.chunks_exact_mut(ld).enumerate() {
+        set_unit(e, i);
+    }
+    let m_inv = inv_pow2_floor(m_norm);
+    set_scaled(zcols, -m_inv, &m_copy[..ld * n]);
+    set_padded(dcol, -1.0, &cover[..n]);
+    for (i, b) in basis[..n].iter_mut().enumerate() {
+        *b = i;
+    }
+    for (k, v) in nonbasic[..n + 1].iter_mut().enumerate() {
+        *v = n + k;
+    }
+    for (v, p) in nb_pos[..2 * n + 1].iter_mut().enumerate() {
+        *p = v.wrapping_sub(n);
+    }
+    m_inv
+}
+
+/// Lemke's pivoting on the loaded tableau; returns how it ended and the pivot count. The
+/// basic values are left in column 0 of `work.tab`, their variables in `work.basis`.
+#[inline(always)]
+pub(crate) fn pivot_loop(n: usize, t: &mut Parts<'_>, max_pivots: usize) -> (Ending, usize) {
+    pivot_loop_slices(
+        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.theta, t.ties, t.cover, max_pivots,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pivot_loop_slices(
+    n: usize,
+    tab: &mut [f64],
+    basis: &mut [usize],
+    nonbasic: &mut [usize],
+    nb_pos: &mut [usize],
+    col: &mut [f64],
+    theta: &mut [f64],
+    ties: &mut [usize],
+    cover: &[f64],
+    max_pivots: usize,
+) -> (Ending, usize) {
+    let ld = leading_dim(n);
+    let z0 = 2 * n;
+    let tab = &mut tab[..ld * (2 * n + 2)];
+    let basis = &mut basis[..n];
+    let nonbasic = &mut nonbasic[..n + 1];
+    let nb_pos = &mut nb_pos[..2 * n + 1];
+    // Small n: the entering column lives on the stack, where it cannot alias the tableau.
+    let mut local = [0.0; leading_dim(MAX_FIXED)];
+    let col = if n <= MAX_FIXED {
+        &mut local[..ld]
+    } else {
+        &mut col[..ld]
+    };
+    let theta = &mut theta[..ld];
+    let ties = &mut ties[..n];
+    let cover = &cover[..n];
+    if max_pivots == 0 {
+        return (Ending::PivotLimit, 0);
+    }
+
+    // z0 enters; the row lexicographically minimising (q_i, e_i)/d_i leaves.
+    let Some(r) = lex_min_ratio(n, ld, tab, cover, 0.0, false, usize::MAX, ties) else {
+        return (Ending::Breakdown, 0);
+    };
+    set_padded(col, -1.0, cover);
+    pivot(
+        theta, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0,
+    );
+    let z0_row = r;
+    let mut leaving = r; // w_r
+    let mut pivots = 1;
+
+    loop {
+        // The complement of the variable that just left enters.
+        let entering = if leaving < n {
+            leaving + n
+        } else {
+            leaving - n
+        };
+        if pivots >= max_pivots {
+            return (Ending::PivotLimit, pivots);
+        }
+        let c = 1 + entering;
+        // The ratio test reads the entering column in place: a fresh vector copy read back
+        // element by element would stall store-to-load forwarding.
+        let entering_col = &tab[c * ld..(c + 1) * ld];
+        // Four independent running maxima (a single chain is latency-bound). A NaN entry
+        // is skipped here, never eligible in the ratio test, and caught by the finiteness
+        // checks on the pivot row and the extracted solution.
+        let mut max4 = [1.0_f64; 4];
+        for c4 in entering_col.chunks_exact(4) {
+            for k in 0..4 {
+                let a = c4[k].abs();
+                max4[k] = if a > max4[k] { a } else { max4[k] };
+            }
+        }
+        let col_max = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
+        let tol = PIV_TOL * col_max;
+        let Some(r) = lex_min_ratio(n, ld, tab, entering_col, tol, true, z0_row, ties) else {
+            return (Ending::Ray, pivots);
+        };
+        let p = entering_col[r];
+        col.copy_from_slice(entering_col);
+        leaving = basis[r];
+        pivot(theta, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering);
+        pivots += 1;
+        if !tab[r].is_finite() {
+            return (Ending::Breakdown, pivots);
+        }
+        if r == z0_row {
+            return (Ending::Complementary, pivots);
+        }
+    }
+}
+
+/// Writes the basic values (unscaled) into `z`, `w` (zeros elsewhere); false if one is
+/// not finite.
+#[inline(always)]
+pub(crate) fn extract(
+    n: usize,
+    t: &Parts<'_>,
+    scales: &Scales,
+    z: &mut [f64],
+    w: &mut [f64],
+) -> bool {
+    let (z, w) = (&mut z[..n], &mut w[..n]);
+    z.fill(0.0);
+    w.fill(0.0);
+    let mut sum = 0.0;
+    for (&x, &v) in t.tab[..n].iter().zip(&t.basis[..n]) {
+        sum += x;
+        if v < n {
+            w[v] = x * scales.w;
+        } else if v < 2 * n {
+            z[v - n] = x * scales.z;
+        }
+    }
+    sum.is_finite()
+}
+
+/// Lexicographic minimum-ratio test: among rows with `col_i > tol`, the row minimising
+/// `(rhs_i, B⁻¹_{i·}) / col_i` lexicographically. `prefer` (z0's row) wins a tie of the
+/// first component, which ends the run. `clamp` reads round-off negative right-hand sides
+/// as zero. `None`: no eligible row (the entering column is a ray).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn lex_min_ratio(
+    n: usize,
+    ld: usize,
+    tab: &[f64],
+    col: &[f64],
+    tol: f64,
+    clamp: bool,
+    prefer: usize,
+    ties: &mut [usize],
+) -> Option<usize> {
+    let rhs = &tab[..n];
+    let col = &col[..n];
+    let rhs_at = |r: f64| if clamp && r <= 0.0 { 0.0 } else { r };
+    // Minimum ratio num/den by cross-multiplication (no division per row); (1, 0) is +∞,
+    // beaten by any eligible row.
+    let mut best = usize::MAX;
+    let (mut num, mut den) = (1.0, 0.0);
+    for (i, (&r, &c)) in rhs.iter().zip(col).enumerate() {
+        let r = rhs_at(r);
+        if c > tol && r * den < num * c {
+            best = i;
+            num = r;
+            den = c;
+        }
+    }
+    if best == usize::MAX {
+        return None;
+    }
+    // Row i ties when r_i/c_i ≤ θ + TIE_TOL·max(1, |θ|) with θ = num/den, i.e. (times
+    // c_i·den > 0) r_i·den ≤ (num + slack)·c_i.
+    let slack = TIE_TOL * den.max(num.abs());
+    let cut = num + slack;
+    if prefer < n && col[prefer] > tol && rhs_at(rhs[prefer]) * den <= cut * col[prefer] {
+        return Some(prefer);
+    }
+    let mut count = 0;
+    for (i, (&r, &c)) in rhs.iter().zip(col).enumerate() {
+        if c > tol && rhs_at(r) * den <= cut * c {
+            ties[count] = i;
+            count += 1;
+        }
+    }
+    if count <= 1 {
+        return Some(best);
+    }
+    Some(break_ties(n, ld, tab, col, &mut ties[..count]))
+}
+
+/// Lexicographic tie-break on the rows of `B⁻¹` (the w-columns), column by column; the
+/// rows of `B⁻¹` are independent, so one row remains (up to round-off).
+#[cold]
+#[inline(never)]
+fn break_ties(n: usize, ld: usize, tab: &[f64], col: &[f64], ties: &mut [usize]) -> usize {
+    let mut count = ties.len();
+    for k in 0..n {
+        let bk = &tab[(1 + k) * ld..(2 + k) * ld];
+        let vmin = ties[..count]
+            .iter()
+            .fold(f64::INFINITY, |a, &i| a.min(bk[i] / col[i]));
+        let cut = vmin + TIE_TOL * vmin.abs().max(1.0);
+        let mut kept = 0;
+        for t in 0..count {
+            let i = ties[t];
+            if bk[i] / col[i] <= cut {
+                ties[kept] = i;
+                kept += 1;
+            }
+        }
+        count = kept.max(1);
+        if count == 1 {
+            break;
+        }
+    }
+    ties[0]
+}
+
+/// Pivots on row `r` with `entering` (its column copied in `col`, `p = col[r]`): the row's basic
+/// variable leaves. Updates the right-hand side and the non-basic columns (the leaving
+/// variable's unit column among them); the entering column becomes `e_r`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pivot(
+    hot_buf: &mut [f64],
+    ld: usize,
+    tab: &mut [f64],
+    basis: &mut [usize],
+    nonbasic: &mut [usize],
+    nb_pos: &mut [usize],
+    col: &[f64],
+    p: f64,
+    r: usize,
+    entering: usize,
+) {
+    let leaving = basis[r];
+    basis[r] = entering;
+    let slot = nb_pos[entering];
+    nonbasic[slot] = leaving;
+    nb_pos[leaving] = slot;
+    nb_pos[entering] = usize::MAX;
+
+    let col = &col[..ld];
+    let inv = 1.0 / p;
+    let mut hot_local = [0.0; leading_dim(MAX_FIXED)];
+    let hot = if ld <= hot_local.len() {
+        &mut hot_local[..ld]
+    } else {
+        &mut hot_buf[..ld]
+    };
+    set_unit(hot, r);
+    let hot = &*hot;
+    let update = |column: &mut [f64]| {
+        let column = &mut column[..ld];
+        let f = column[r] * inv;
+        eliminate(column, f, col, hot);
+    };
+    update(&mut tab[..ld]);
+    for &v in nonbasic.iter() {
+        let c = 1 + v;
+        update(&mut tab[c * ld..(c + 1) * ld]);
+    }
+    let c = 1 + entering;
+    set_unit(&mut tab[c * ld..(c + 1) * ld], r);
+}

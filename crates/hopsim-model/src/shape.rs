@@ -1,0 +1,93 @@
+//! Contact shapes fixed to bodies, in body-frame coordinates relative to the centre of mass.
+
+use crate::Vec2;
+
+/// A contact shape in its body's frame (origin at the body's centre of mass, m and rad).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// A disc of `radius` centred at `center`; an eccentric disc has `center = (0, a)`
+    /// so that its centre sits at `CoM + (-a sin φ, a cos φ)` (physics.md §2).
+    Circle { center: Vec2, radius: f64 },
+    /// The circular arc of `radius` about `center` spanning the body-frame angles
+    /// `start ..= end` (counter-clockwise, `end > start`): a curved foot (§5.4).
+    Arc {
+        center: Vec2,
+        radius: f64,
+        start: f64,
+        end: f64,
+    },
+    /// An ellipse with semi-axes `semi_x`, `semi_y` along the body axes (§5.3 variants).
+    Ellipse {
+        center: Vec2,
+        semi_x: f64,
+        semi_y: f64,
+    },
+    /// A single contact point, e.g. a cane tip (§5.4).
+    Point { position: Vec2 },
+    /// A convex polygon, vertices counter-clockwise (the cube baseline of §5.3).
+    Polygon { vertices: Vec<Vec2> },
+}
+
+impl Shape {
+    /// Number of corner points that can touch the terrain on their own (polygon
+    /// vertices, the two arc end points, the point itself).
+    pub fn vertex_count(&self) -> usize {
+        match self {
+            Shape::Circle { .. } | Shape::Ellipse { .. } => 0,
+            Shape::Arc { .. } => 2,
+            Shape::Point { .. } => 1,
+            Shape::Polygon { vertices } => vertices.len(),
+        }
+    }
+
+    /// The `k`-th corner point in the body frame (see [`Shape::vertex_count`]).
+    pub fn vertex(&self, k: usize) -> Option<Vec2> {
+        match self {
+            Shape::Circle { .. } | Shape::Ellipse { .. } => None,
+            Shape::Arc {
+                center,
+                radius,
+                start,
+                end,
+            } => {
+                let a = [*start, *end].get(k).copied()?;
+                Some(center + *radius * Vec2::new(a.cos(), a.sin()))
+            }
+            Shape::Point { position } => (k == 0).then_some(*position),
+            Shape::Polygon { vertices } => vertices.get(k).copied(),
+        }
+    }
+
+    /// Whether the shape has a smooth curved boundary (circle, arc, ellipse).
+    pub fn is_smooth(&self) -> bool {
+        matches!(
+            self,
+            Shape::Circle { .. } | Shape::Arc { .. } | Shape::Ellipse { .. }
+        )
+    }
+
+    /// Whether the body-frame direction `dir` (from the shape's centre) falls on the
+    /// shape's boundary: always for closed curves, inside `start ..= end` for an arc.
+    pub fn covers_direction(&self, dir: Vec2) -> bool {
+        match self {
+            Shape::Arc { start, end, .. } => {
+                let two_pi = std::f64::consts::TAU;
+                let angle = dir.y.atan2(dir.x);
+                let offset = (angle - start).rem_euclid(two_pi);
+                offset <= (end - start)
+            }
+            _ => true,
+        }
+    }
+}
+
+/// A shape attached to one body of the model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeInstance {
+    /// Name used in records and viewers.
+    pub name: String,
+    /// Index of the body carrying the shape.
+    pub body: usize,
+    /// The geometry in the body frame.
+    pub shape: Shape,
+}

@@ -1,0 +1,17 @@
+//! The simulation loop: before each step the controller fills the actuation, the stepper
+//! advances the state, and observers (recorders, the summary, golden traces) see the
+//! step's record and events.
+
+mod flight;
+mod observer;
+mod recording;
+mod simulation;
+mod summary;
+mod sweep;
+
+pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
+pub use observer::{Observer, StepView};
+pub use recording::{recording_info, RecordingObserver};
+pub use simulation::{run, RunError, RunOptions, Simulation};
+pub use sweep::{grid_points, sweep, GridAxis, SweepPoint};
+pub use summary::{CubeBaseline, EnergySummary, ImpulseSummary, LcpSummary, RobbitSummary, Summary};

@@ -1,0 +1,43 @@
+//! What observers of a run see after every step.
+
+use crate::simulation::RunError;
+use hopsim_model::{Model, Workspace};
+use hopsim_record::Event;
+use hopsim_step::{State, StepRecord};
+
+/// One finished step, as observers see it.
+pub struct StepView<'a> {
+    pub model: &'a Model,
+    /// State at the end of the step.
+    pub state: &'a State,
+    /// Kinematics at the end of the step.
+    pub kinematics: &'a Workspace,
+    /// The stepper's record (contact percussions, lock impulses, energies).
+    pub record: &'a StepRecord,
+    /// Discrete events of this step.
+    pub events: &'a [Event],
+    /// Whether each shape is switched on.
+    pub shapes_active: &'a [bool],
+    /// Motor torque commanded in this step, N m.
+    pub torque: f64,
+    /// Smallest gap of any enabled contact at the end of the step, m.
+    pub min_gap: f64,
+}
+
+/// Something that watches a run: recorders, the summary, golden-trace collectors.
+pub trait Observer {
+    /// Called after every step.
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError>;
+}
+
+impl<T: Observer + ?Sized> Observer for &mut T {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        (**self).on_step(view)
+    }
+}
+
+impl Observer for () {
+    fn on_step(&mut self, _: &StepView<'_>) -> Result<(), RunError> {
+        Ok(())
+    }
+}

@@ -1,0 +1,126 @@
+//! Hands the run to recorders: frames at the recording rate, every event exactly.
+
+use crate::simulation::RunError;
+use crate::{Observer, StepView};
+use hopsim_record::{
+    BodyInfo, BodyPose, ContactSample, EnergySample, Frame, RecorderSet, RecordingInfo,
+};
+use hopsim_scene::Scene;
+
+/// The static description of a scene for recorders.
+pub fn recording_info(scene: &Scene) -> RecordingInfo {
+    let model = &scene.model;
+    RecordingInfo {
+        scene: scene.title.clone(),
+        scene_path: scene.path.display().to_string(),
+        scene_text: scene.text.clone(),
+        coordinates: scene.coordinates.clone(),
+        bodies: model
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(b, body)| BodyInfo {
+                name: body.name.clone(),
+                shapes: model
+                    .shapes
+                    .iter()
+                    .filter(|s| s.body == b)
+                    .map(|s| (s.name.clone(), s.shape.clone()))
+                    .collect(),
+            })
+            .collect(),
+        contacts: model.contacts.iter().map(|c| c.name.clone()).collect(),
+        springs: model.springs.iter().map(|s| s.name.clone()).collect(),
+        terrain: model.terrain.clone(),
+        dt: scene.settings.dt,
+    }
+}
+
+/// Builds frames from steps and passes them, with the events, to a [`RecorderSet`].
+pub struct RecordingObserver {
+    recorders: RecorderSet,
+    every: u64,
+    bodies: Vec<BodyPose>,
+    contacts: Vec<ContactSample>,
+    springs: Vec<([f64; 2], [f64; 2])>,
+    shapes_active: Vec<bool>,
+}
+
+impl RecordingObserver {
+    /// Records every `round(1 / (rate Δt))`-th step (at least every step) and every step
+    /// with an event.
+    pub fn new(recorders: RecorderSet, scene: &Scene) -> Self {
+        let every = (1.0 / (scene.settings.record_rate * scene.settings.dt)).round().max(1.0) as u64;
+        Self {
+            recorders,
+            every,
+            bodies: Vec::new(),
+            contacts: Vec::new(),
+            springs: Vec::new(),
+            shapes_active: Vec::new(),
+        }
+    }
+
+    /// Completes every recording.
+    pub fn finish(self) -> Result<(), RunError> {
+        Ok(self.recorders.finish()?)
+    }
+}
+
+impl Observer for RecordingObserver {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        for ev in view.events {
+            self.recorders.event(ev)?;
+        }
+        let step = view.record.step;
+        if step % self.every != 0 && view.events.is_empty() && step != 1 {
+            return Ok(());
+        }
+        let ws = view.kinematics;
+        let model = view.model;
+        self.bodies.clear();
+        self.bodies.extend((0..model.bodies.len()).map(|b| BodyPose {
+            position: [ws.position[b].x, ws.position[b].y],
+            angle: ws.angle[b],
+        }));
+        self.contacts.clear();
+        self.contacts.extend(view.record.contacts.iter().map(|c| ContactSample {
+            contact: c.contact,
+            point: [c.point.x, c.point.y],
+            normal: [c.normal.x, c.normal.y],
+            impulse_normal: c.impulse_normal,
+            impulse_tangent: c.impulse_tangent,
+            state: c.state.as_str(),
+        }));
+        self.springs.clear();
+        self.springs.extend((0..model.springs.len()).map(|s| {
+            let (a, b) = model.spring_ends(ws, s);
+            ([a.x, a.y], [b.x, b.y])
+        }));
+        self.shapes_active.clear();
+        self.shapes_active.extend_from_slice(view.shapes_active);
+        let com = model.center_of_mass(ws);
+        let e = view.record.energy;
+        self.recorders.frame(&Frame {
+            t: view.state.t,
+            step,
+            q: view.state.q.as_slice(),
+            u: view.state.u.as_slice(),
+            bodies: &self.bodies,
+            com: [com.x, com.y],
+            contacts: &self.contacts,
+            springs: &self.springs,
+            shapes_active: &self.shapes_active,
+            energy: EnergySample {
+                kinetic: e.kinetic,
+                potential: e.potential,
+                spring: e.spring,
+                actuator_work: e.actuator_work,
+                dissipated: e.dissipated(),
+                balance_error: e.balance_error(),
+            },
+            actuator_torque: view.torque,
+        })?;
+        Ok(())
+    }
+}

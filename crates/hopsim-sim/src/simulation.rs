@@ -1,0 +1,226 @@
+//! The run loop: controller → actuation → step → events → observers.
+
+use crate::summary::SummaryCollector;
+use crate::{FlightEvent, FlightTracker, Observer, StepView, Summary};
+use hopsim_control::{ControlEvent, ControlInput, Controller};
+use hopsim_record::{Event, EventKind, RecordError};
+use hopsim_scene::Scene;
+use hopsim_step::{Actuation, State, StepError, Stepper};
+use indicatif::{ProgressBar, ProgressDrawTarget};
+use std::time::Instant;
+
+/// Why a run stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Step(#[from] StepError),
+    #[error("recording failed: {0}")]
+    Record(#[from] RecordError),
+    #[error("{0}")]
+    Other(String),
+}
+
+/// Options of a run beyond the scene's settings.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Override of the scene's duration, s.
+    pub duration: Option<f64>,
+    /// Progress bar to advance (simulated seconds, in milliseconds as the unit).
+    pub progress: Option<ProgressBar>,
+}
+
+/// A scene being simulated: the stepper, the controller and the state.
+pub struct Simulation<'s> {
+    scene: &'s Scene,
+    stepper: Stepper,
+    controller: Box<dyn Controller>,
+    state: State,
+    actuation: Actuation,
+    control_events: Vec<ControlEvent>,
+    events: Vec<Event>,
+    shapes_active: Vec<bool>,
+    flight: FlightTracker,
+    loaded: bool,
+}
+
+impl<'s> Simulation<'s> {
+    /// A simulation at the scene's initial state; switchable shapes start switched off.
+    pub fn new(scene: &'s Scene) -> Self {
+        let model = &scene.model;
+        let mut stepper = Stepper::new(model, scene.step_settings());
+        let mut shapes_active = vec![true; model.shapes.len()];
+        for &s in &scene.switchable {
+            shapes_active[s] = false;
+        }
+        for (i, c) in model.contacts.iter().enumerate() {
+            stepper.set_contact_enabled(i, shapes_active[c.shape]);
+        }
+        stepper.start(model, &scene.initial);
+        Self {
+            scene,
+            controller: scene.controller.build(model),
+            stepper,
+            state: scene.initial.clone(),
+            actuation: Actuation::default(),
+            control_events: Vec::new(),
+            events: Vec::new(),
+            shapes_active,
+            flight: FlightTracker::default(),
+            loaded: true,
+        }
+    }
+
+    /// The scene being simulated.
+    pub fn scene(&self) -> &'s Scene {
+        self.scene
+    }
+
+    /// The current state.
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The stepper (its record, statistics and kinematics).
+    pub fn stepper(&self) -> &Stepper {
+        &self.stepper
+    }
+
+    /// Flight phases so far.
+    pub fn hops(&self) -> u64 {
+        self.flight.hops()
+    }
+
+    /// Takes one step and shows it to `observer`.
+    pub fn step(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
+        let model = &self.scene.model;
+        self.actuation.clear();
+        self.control_events.clear();
+        self.events.clear();
+        let input = ControlInput {
+            model,
+            state: &self.state,
+            kinematics: self.stepper.workspace(),
+            in_contact: self.loaded,
+            shapes_active: &self.shapes_active,
+        };
+        self.controller
+            .control(&input, &mut self.actuation, &mut self.control_events);
+        let t0 = self.state.t;
+        for ev in &self.control_events {
+            if let ControlEvent::ShapeSwitch { shape, active } = *ev {
+                self.shapes_active[shape] = active;
+                for (i, c) in model.contacts.iter().enumerate() {
+                    if c.shape == shape {
+                        self.stepper.set_contact_enabled(i, active);
+                    }
+                }
+                self.events.push(Event {
+                    t: t0,
+                    step: self.stepper.record().step,
+                    kind: EventKind::ShapeSwitch {
+                        shape: model.shapes[shape].name.clone(),
+                        active,
+                    },
+                });
+            }
+        }
+        let record = self
+            .stepper
+            .step(model, &mut self.state, &self.actuation)?;
+        let step = record.step;
+        for (k, ev) in self.control_events.iter().enumerate() {
+            if let ControlEvent::Brake { .. } = ev {
+                self.events.push(Event {
+                    t: t0,
+                    step,
+                    kind: EventKind::Brake {
+                        impulse: record.lock_impulses.get(k).copied().unwrap_or(0.0).abs(),
+                    },
+                });
+            }
+        }
+        self.loaded = record.in_contact();
+        let min_gap = min_gap(self);
+        match self.flight.update(self.state.t, step, self.loaded, min_gap) {
+            Some(FlightEvent::TakeOff { t, step }) => self.events.push(Event {
+                t,
+                step,
+                kind: EventKind::TakeOff,
+            }),
+            Some(FlightEvent::Touchdown { t, step }) => {
+                let record = self.stepper.record();
+                let contact = record
+                    .contacts
+                    .iter()
+                    .find(|c| c.impulse_normal > 0.0)
+                    .map(|c| model.contacts[c.contact].name.clone())
+                    .unwrap_or_default();
+                self.events.push(Event {
+                    t,
+                    step,
+                    kind: EventKind::Touchdown { contact },
+                })
+            }
+            None => {}
+        }
+        let torque = self.actuation.torques.first().map_or(0.0, |t| t.torque);
+        observer.on_step(&StepView {
+            model,
+            state: &self.state,
+            kinematics: self.stepper.workspace(),
+            record: self.stepper.record(),
+            events: &self.events,
+            shapes_active: &self.shapes_active,
+            torque,
+            min_gap,
+        })
+    }
+}
+
+/// Smallest gap over the enabled contacts at the end of the last step.
+fn min_gap(sim: &Simulation<'_>) -> f64 {
+    let model = &sim.scene.model;
+    (0..model.contacts.len())
+        .filter(|&i| sim.stepper.contact_enabled(i))
+        .filter_map(|i| model.contact_geometry(sim.stepper.workspace(), i))
+        .map(|g| g.gap)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Runs `scene` to its end (or `options.duration`), showing every step to `observer`,
+/// and returns the run summary.
+pub fn run(scene: &Scene, options: &RunOptions, observer: &mut dyn Observer) -> Result<Summary, RunError> {
+    let duration = options.duration.unwrap_or(scene.settings.duration);
+    let dt = scene.settings.dt;
+    let steps = (duration / dt).round() as u64;
+    let mut sim = Simulation::new(scene);
+    let mut summary = SummaryCollector::new(scene, duration);
+    let started = Instant::now();
+    let tick = (steps / 500).max(1);
+    let mut revealed = false;
+    for k in 0..steps {
+        sim.step(&mut Tee(&mut summary, observer))?;
+        if let Some(bar) = options.progress.as_ref().filter(|_| k % tick == 0) {
+            // Runs shorter than a second show no bar; stderr draws only on a terminal.
+            if !revealed && started.elapsed().as_secs_f64() > 1.0 {
+                bar.set_draw_target(ProgressDrawTarget::stderr());
+                revealed = true;
+            }
+            bar.set_position((sim.state.t * 1e3) as u64);
+        }
+    }
+    if let Some(bar) = &options.progress {
+        bar.finish_and_clear();
+    }
+    Ok(summary.finish(&sim, started.elapsed().as_secs_f64(), steps))
+}
+
+/// Shows each step to two observers.
+struct Tee<'a, 'b>(&'a mut SummaryCollector, &'b mut dyn Observer);
+
+impl Observer for Tee<'_, '_> {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.0.on_step(view)?;
+        self.1.on_step(view)
+    }
+}

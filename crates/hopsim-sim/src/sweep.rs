@@ -1,0 +1,147 @@
+//! Parameter sweeps: a scene run over the Cartesian product of grid axes, in parallel,
+//! with results in a deterministic order (physics.md §5.3, the speed-versus-impulse map).
+
+use crate::{run, RunOptions, Summary};
+use hopsim_scene::Override;
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+use std::path::Path;
+
+/// One grid axis: a scene key and the values it takes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridAxis {
+    /// Scene key path, e.g. `controller.torque`.
+    pub key: String,
+    /// The values, in order.
+    pub values: Vec<f64>,
+}
+
+impl std::str::FromStr for GridAxis {
+    type Err = String;
+
+    /// `key=start:stop:count` (inclusive, evenly spaced) or `key=v1,v2,…`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (key, spec) = s
+            .split_once('=')
+            .ok_or_else(|| format!("grid axis '{s}': expected KEY=START:STOP:COUNT or KEY=V1,V2,..."))?;
+        let number = |t: &str| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("grid axis '{s}': '{t}' is not a finite number"))
+        };
+        let values = if let [start, stop, count] = spec.split(':').collect::<Vec<_>>()[..] {
+            let (start, stop) = (number(start)?, number(stop)?);
+            let count: usize = count
+                .trim()
+                .parse()
+                .ok()
+                .filter(|&n| n >= 1)
+                .ok_or_else(|| format!("grid axis '{s}': count '{count}' must be a positive integer"))?;
+            (0..count)
+                .map(|i| match count {
+                    1 => start,
+                    _ => start + (stop - start) * i as f64 / (count - 1) as f64,
+                })
+                .collect()
+        } else {
+            spec.split(',').map(number).collect::<Result<Vec<_>, _>>()?
+        };
+        Ok(Self {
+            key: key.trim().to_string(),
+            values,
+        })
+    }
+}
+
+/// One point of the grid and what its run gave.
+#[derive(Clone, Debug)]
+pub struct SweepPoint {
+    /// The grid values, in axis order.
+    pub values: Vec<f64>,
+    /// The run summary, or the error that stopped it.
+    pub result: Result<Summary, String>,
+}
+
+/// Every grid point in row-major order (the last axis varies fastest).
+pub fn grid_points(axes: &[GridAxis]) -> Vec<Vec<f64>> {
+    axes.iter().fold(vec![Vec::new()], |points, axis| {
+        points
+            .iter()
+            .flat_map(|p| {
+                axis.values.iter().map(move |v| {
+                    let mut q = p.clone();
+                    q.push(*v);
+                    q
+                })
+            })
+            .collect()
+    })
+}
+
+/// Runs the scene at `path` (with `base` overrides) at every grid point, in parallel.
+/// A run that fails is a point with its error, not a failed sweep.
+pub fn sweep(
+    path: &Path,
+    text: &str,
+    base: &[Override],
+    axes: &[GridAxis],
+    duration: Option<f64>,
+    progress: Option<&ProgressBar>,
+) -> Vec<SweepPoint> {
+    grid_points(axes)
+        .into_par_iter()
+        .map(|values| {
+            let mut overrides = base.to_vec();
+            overrides.extend(axes.iter().zip(&values).map(|(axis, v)| Override {
+                key: axis.key.clone(),
+                value: format!("{v:?}"),
+            }));
+            let result = hopsim_scene::parse(text, path, &overrides)
+                .map_err(|e| e.to_string())
+                .and_then(|scene| {
+                    let options = RunOptions {
+                        duration,
+                        progress: None,
+                    };
+                    run(&scene, &options, &mut ()).map_err(|e| e.to_string())
+                });
+            if let Some(bar) = progress {
+                bar.inc(1);
+            }
+            SweepPoint { values, result }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axes_parse_ranges_and_lists() {
+        let a: GridAxis = "controller.torque=0.1:0.3:3".parse().unwrap();
+        assert_eq!(a.key, "controller.torque");
+        assert_eq!(a.values.len(), 3);
+        assert!((a.values[1] - 0.2).abs() < 1e-15 && (a.values[2] - 0.3).abs() < 1e-15);
+        let b: GridAxis = "x=1,2.5".parse().unwrap();
+        assert_eq!(b.values, vec![1.0, 2.5]);
+        assert!("x=1:2:0".parse::<GridAxis>().is_err());
+        assert!("x=a,b".parse::<GridAxis>().is_err());
+        assert!("x".parse::<GridAxis>().is_err());
+    }
+
+    #[test]
+    fn grid_is_row_major() {
+        let axes = [
+            GridAxis { key: "a".into(), values: vec![1.0, 2.0] },
+            GridAxis { key: "b".into(), values: vec![10.0, 20.0, 30.0] },
+        ];
+        let points = grid_points(&axes);
+        assert_eq!(points.len(), 6);
+        assert_eq!(points[0], vec![1.0, 10.0]);
+        assert_eq!(points[1], vec![1.0, 20.0]);
+        assert_eq!(points[5], vec![2.0, 30.0]);
+    }
+}

@@ -1,0 +1,55 @@
+//! What a controller asks of one step: torques, impulses and velocity locks.
+
+use hopsim_model::Vec2;
+
+/// A torque on a body, with the opposite torque on a reaction body (a motor between two
+/// bodies) or on nothing (an external torque).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorqueCommand {
+    /// Body that receives `+torque`.
+    pub body: usize,
+    /// Body that receives `-torque`, if any.
+    pub reaction: Option<usize>,
+    /// Torque, N m.
+    pub torque: f64,
+}
+
+/// An impulse applied within the step (physics.md §3, [2.22]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ImpulseCommand {
+    /// A translational impulse `ζ` (world frame, N s) at the material point of `body` at
+    /// world offset `offset` from its centre of mass.
+    Point {
+        body: usize,
+        offset: Vec2,
+        impulse: Vec2,
+    },
+    /// A rotational impulse on `body` (and its opposite on `reaction`), N m s.
+    Rotational {
+        body: usize,
+        reaction: Option<usize>,
+        impulse: f64,
+    },
+}
+
+/// The actuation of one step; cleared and refilled by the controller every step
+/// (its buffers keep their capacity, so refilling does not allocate).
+#[derive(Clone, Debug, Default)]
+pub struct Actuation {
+    /// Torques held over the step.
+    pub torques: Vec<TorqueCommand>,
+    /// Impulses applied inside the step.
+    pub impulses: Vec<ImpulseCommand>,
+    /// Bodies whose relative rotation is locked inelastically in this step (a brake):
+    /// `(body, other)` enforces `θ̇_body = θ̇_other` at the end of the step.
+    pub locks: Vec<(usize, usize)>,
+}
+
+impl Actuation {
+    /// Removes every command, keeping the buffers.
+    pub fn clear(&mut self) {
+        self.torques.clear();
+        self.impulses.clear();
+        self.locks.clear();
+    }
+}

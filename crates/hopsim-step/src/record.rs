@@ -1,0 +1,136 @@
+//! What one step reports: contact percussions, lock impulses, energies, LCP statistics.
+
+use hopsim_model::Vec2;
+
+/// Contact status over a step (physics.md §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactState {
+    /// In the index set but carrying no normal percussion: separating.
+    Open,
+    /// Normal percussion and no tangential slip.
+    Stick,
+    /// Normal percussion and slip, friction on the Coulomb limit.
+    Slip,
+}
+
+impl ContactState {
+    /// Lower-case name for logs and files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ContactState::Open => "open",
+            ContactState::Stick => "stick",
+            ContactState::Slip => "slip",
+        }
+    }
+}
+
+/// One contact of the step's index set (`g_N(q^M) ≤ 0`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactRecord {
+    /// Index into the model's contact candidates.
+    pub contact: usize,
+    /// Gap at the midpoint `g_N(q^M)`, m (≤ 0).
+    pub gap: f64,
+    /// Contact point on the body at the midpoint, world frame, m.
+    pub point: Vec2,
+    /// Contact normal (terrain towards body).
+    pub normal: Vec2,
+    /// Normal percussion `Λ_N`, N s.
+    pub impulse_normal: f64,
+    /// Tangential percussion `Λ_T` along `t = (n_y, -n_x)`, N s.
+    pub impulse_tangent: f64,
+    /// Tangential contact velocity law value `ξ_T` at the end of the step, m/s.
+    pub slip_velocity: f64,
+    /// Open, stick or slip.
+    pub state: ContactState,
+}
+
+/// Running energy account of a simulation (physics.md §6), J.
+///
+/// `kinetic + potential + spring - initial = actuator_work + contact_work + lock_work +
+/// damping_work + balance_error`, the works being those of the step impulses over the
+/// step's mean velocity `(u^A + u^E)/2`; the error is the midpoint scheme's own.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnergyLedger {
+    /// Kinetic energy at the end of the step.
+    pub kinetic: f64,
+    /// Gravitational potential energy at the end of the step.
+    pub potential: f64,
+    /// Energy stored in springs at the end of the step.
+    pub spring: f64,
+    /// Total mechanical energy at the start of the run.
+    pub initial: f64,
+    /// Cumulative work of actuator torques and applied impulses.
+    pub actuator_work: f64,
+    /// Cumulative work of contact percussions (≤ 0 for passive contacts).
+    pub contact_work: f64,
+    /// Cumulative work of velocity locks such as brakes (≤ 0).
+    pub lock_work: f64,
+    /// Cumulative work of joint and spring damping (≤ 0).
+    pub damping_work: f64,
+}
+
+impl EnergyLedger {
+    /// Mechanical energy now.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.potential + self.spring
+    }
+
+    /// Energy dissipated so far by impacts, friction, locks and damping (≥ 0 when passive).
+    pub fn dissipated(&self) -> f64 {
+        -(self.contact_work + self.lock_work + self.damping_work)
+    }
+
+    /// What the account fails to explain: `ΔE - W_actuators + dissipated`.
+    pub fn balance_error(&self) -> f64 {
+        self.total() - self.initial - self.actuator_work + self.dissipated()
+    }
+}
+
+/// LCP statistics of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LcpStats {
+    /// LCPs solved (steps with at least one closed contact).
+    pub solves: u64,
+    /// Solves that ended without a certified solution.
+    pub failures: u64,
+    /// Largest pivot count of a single solve.
+    pub max_pivots: usize,
+    /// Sum of pivots.
+    pub total_pivots: u64,
+}
+
+/// Everything one step produced. Its buffers are reused from step to step.
+#[derive(Clone, Debug, Default)]
+pub struct StepRecord {
+    /// Steps taken so far (1 after the first step).
+    pub step: u64,
+    /// Time at the end of the step, s.
+    pub t: f64,
+    /// The contacts of the index set.
+    pub contacts: Vec<ContactRecord>,
+    /// Impulse of each velocity lock requested for this step, N m s (same order as
+    /// [`crate::Actuation::locks`]); the impulse on the first body of the pair.
+    pub lock_impulses: Vec<f64>,
+    /// Energy account after the step.
+    pub energy: EnergyLedger,
+    /// Pivots of this step's LCP (0 without contacts).
+    pub lcp_pivots: usize,
+    /// Whether this step's LCP ended without a certified solution (the step then used the
+    /// frictionless normal-contact LCP).
+    pub lcp_failed: bool,
+    /// Largest penetration `max(-g_N, 0)` over the contacts at the end of the step, m.
+    pub max_penetration: f64,
+}
+
+impl StepRecord {
+    /// Sum of normal percussions of the step, N s.
+    pub fn total_normal_impulse(&self) -> f64 {
+        self.contacts.iter().map(|c| c.impulse_normal).sum()
+    }
+
+    /// Whether any contact carried a normal percussion this step.
+    pub fn in_contact(&self) -> bool {
+        self.contacts.iter().any(|c| c.state != ContactState::Open)
+    }
+}

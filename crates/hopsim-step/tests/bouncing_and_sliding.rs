@@ -1,0 +1,198 @@
+//! Analytic checks: restitution, Coulomb sliding, stick/slip on inclines, rolling discs.
+
+mod common;
+use common::*;
+use hopsim_model::{Shape, Terrain, Vec2};
+use hopsim_step::ContactState;
+
+/// A ball dropped with `ε_N = 0.5` loses a factor `ε_N²` of apex height per bounce.
+#[test]
+fn ball_apex_heights_fall_by_restitution_squared() {
+    let (r, eps) = (0.1, 0.5);
+    let model = single_body(
+        1.0,
+        0.004,
+        Shape::Circle {
+            center: Vec2::zeros(),
+            radius: r,
+        },
+        Terrain::flat(0.0),
+        material(0.0, eps),
+    );
+    let dt = 2e-5;
+    let mut st = stepper(&model, dt);
+    let mut s = state(&[0.0, r + 1.0, 0.0], &[0.0, 0.0, 0.0]);
+    let mut apexes = vec![];
+    let mut prev_vy = 0.0;
+    run(&model, &mut st, &mut s, (2.5 / dt) as usize, |s, _| {
+        if prev_vy > 0.0 && s.u[1] <= 0.0 {
+            apexes.push(s.q[1] - r);
+        }
+        prev_vy = s.u[1];
+    });
+    eprintln!("ball apex heights: {apexes:?}");
+    assert!(apexes.len() >= 3, "apexes {apexes:?}");
+    let mut expected = 1.0;
+    for h in &apexes[..3] {
+        expected *= eps * eps;
+        assert!(
+            (h - expected).abs() < 0.01 * expected + 2e-4,
+            "apex {h} vs {expected} ({apexes:?})"
+        );
+    }
+}
+
+fn square(half: f64) -> Shape {
+    Shape::Polygon {
+        vertices: vec![
+            Vec2::new(-half, -half),
+            Vec2::new(half, -half),
+            Vec2::new(half, half),
+            Vec2::new(-half, half),
+        ],
+    }
+}
+
+/// A block sliding at `v0` decelerates at `μ g` and stops after `v0² / (2 μ g)`.
+#[test]
+fn sliding_block_decelerates_at_mu_g_and_stops_where_it_should() {
+    let (mu, v0, half): (f64, f64, f64) = (0.3, 2.0, 0.05);
+    let model = single_body(
+        2.0,
+        2.0 * (2.0 * half).powi(2) / 6.0,
+        square(half),
+        Terrain::flat(0.0),
+        material(mu, 0.0),
+    );
+    let dt = 1e-4;
+    let mut st = stepper(&model, dt);
+    let mut s = state(&[0.0, half, 0.0], &[v0, 0.0, 0.0]);
+    let mut samples = vec![];
+    run(&model, &mut st, &mut s, 12_000, |s, rec| {
+        samples.push((
+            s.t,
+            s.u[0],
+            rec.contacts.iter().map(|c| c.state).collect::<Vec<_>>(),
+        ));
+    });
+    let stop = v0 * v0 / (2.0 * mu * G);
+    assert!(
+        (s.q[0] - stop).abs() < 2e-3,
+        "stopped at {} vs {stop}",
+        s.q[0]
+    );
+    // Deceleration in the middle of the slide.
+    let (t1, v1, states) = &samples[2000];
+    let decel = (v0 - v1) / t1;
+    assert!(
+        (decel - mu * G).abs() < 1e-3 * mu * G,
+        "deceleration {decel}"
+    );
+    assert!(
+        states.iter().all(|c| *c == ContactState::Slip),
+        "{states:?}"
+    );
+    assert!(
+        s.u[0].abs() < 1e-9 && s.u[2].abs() < 1e-6,
+        "at rest: {}",
+        s.u
+    );
+}
+
+fn block_on_incline(angle: f64, mu: f64) -> (f64, f64) {
+    let half: f64 = 0.05;
+    let model = single_body(
+        1.0,
+        (2.0 * half).powi(2) / 6.0,
+        square(half),
+        Terrain::incline(angle),
+        material(mu, 0.0),
+    );
+    let dt = 1e-4;
+    let mut st = stepper(&model, dt);
+    // Resting on the incline, rotated with it.
+    let n = Vec2::new(-angle.sin(), angle.cos());
+    let mut s = state(&[n.x * half, n.y * half, angle], &[0.0; 3]);
+    run(&model, &mut st, &mut s, 5000, |_, _| {});
+    let along = Vec2::new(angle.cos(), angle.sin());
+    let v = Vec2::new(s.u[0], s.u[1]).dot(&along);
+    (v, s.t)
+}
+
+/// Below the friction angle the block sticks; above it slides at `g (sin θ - μ cos θ)`.
+#[test]
+fn block_sticks_below_friction_angle_and_slides_above() {
+    let mu: f64 = 0.5;
+    let friction_angle = mu.atan();
+    let (v, _) = block_on_incline(friction_angle - 0.05, mu);
+    assert!(v.abs() < 1e-9, "stuck block moves at {v}");
+    let theta: f64 = friction_angle + 0.1;
+    let (v, t) = block_on_incline(theta, mu);
+    let expected = -G * (theta.sin() - mu * theta.cos()) * t;
+    assert!(
+        (v - expected).abs() < 2e-3 * expected.abs(),
+        "{v} vs {expected}"
+    );
+}
+
+/// A disc rolls without slip on an incline for `tan θ ≤ μ (1 + m r²/I)` and slips above.
+#[test]
+fn disc_on_incline_rolls_below_the_slip_limit_and_slips_above() {
+    let (m, r, inertia, mu): (f64, f64, f64, f64) = (1.0, 0.1, 0.005, 0.2);
+    let limit = (mu * (1.0 + m * r * r / inertia)).atan();
+    let run_at = |theta: f64| {
+        let model = single_body(
+            m,
+            inertia,
+            Shape::Circle {
+                center: Vec2::zeros(),
+                radius: r,
+            },
+            Terrain::incline(theta),
+            material(mu, 0.0),
+        );
+        let mut st = stepper(&model, 1e-4);
+        let n = Vec2::new(-theta.sin(), theta.cos());
+        let mut s = state(&[n.x * r, n.y * r, 0.0], &[0.0; 3]);
+        let mut slip_seen = false;
+        run(&model, &mut st, &mut s, 5000, |_, rec| {
+            slip_seen |= rec.contacts.iter().any(|c| c.state == ContactState::Slip);
+        });
+        let along = Vec2::new(theta.cos(), theta.sin());
+        (
+            Vec2::new(s.u[0], s.u[1]).dot(&along),
+            s.u[2],
+            s.t,
+            slip_seen,
+        )
+    };
+    let theta = limit - 0.05;
+    let (v, w, t, slip) = run_at(theta);
+    let a_roll = G * theta.sin() / (1.0 + inertia / (m * r * r));
+    assert!(!slip, "rolling disc slipped");
+    assert!(
+        (v + a_roll * t).abs() < 2e-3 * a_roll * t,
+        "{v} vs {}",
+        -a_roll * t
+    );
+    // Rolling down (v < 0 uphill) turns the disc counter-clockwise: v = -r ω.
+    assert!(
+        (v + r * w).abs() < 1e-9,
+        "no-slip: v = {v}, r ω = {}",
+        r * w
+    );
+    let theta = limit + 0.1;
+    let (v, w, t, slip) = run_at(theta);
+    let a_slide = G * (theta.sin() - mu * theta.cos());
+    assert!(slip, "disc above the limit did not slip");
+    assert!(
+        (v + a_slide * t).abs() < 2e-3 * a_slide * t,
+        "{v} vs {}",
+        -a_slide * t
+    );
+    assert!(
+        (v + r * w).abs() > 0.01,
+        "slipping disc rolls: v = {v}, r ω = {}",
+        r * w
+    );
+}

@@ -1,0 +1,284 @@
+//! Impacts against the closed-form impact map of physics.md §3, dissipation, the energy
+//! ledger and the scheme's convergence.
+
+mod common;
+use common::*;
+use hopsim_model::{Shape, Terrain, Vec2};
+use hopsim_step::{Actuation, ContactState, State, TorqueCommand};
+use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector3};
+use proptest::prelude::*;
+
+const M: f64 = 1.3;
+const I: f64 = 0.012;
+const R: f64 = 0.2;
+const A: f64 = 0.1;
+
+/// `Λ = -(J M⁻¹ Jᵀ)⁻¹ J u⁻` and `ΔE = ½ u⁻ᵀ M_c u⁻` for the eccentric disc touching down
+/// without slip, with `J = [w_Tᵀ; w_Nᵀ]` of physics.md §2 written out independently.
+fn closed_form_touchdown(phi: f64, u: Vector3<f64>) -> (f64, f64, f64) {
+    let j = Matrix2x3::new(1.0, 0.0, R - A * phi.cos(), 0.0, 1.0, -A * phi.sin());
+    let m_inv = Matrix3::from_diagonal(&Vector3::new(1.0 / M, 1.0 / M, 1.0 / I));
+    let d: Matrix2<f64> = j * m_inv * j.transpose();
+    let d_inv = d.try_inverse().unwrap();
+    let lambda = -d_inv * j * u;
+    let m_c = -j.transpose() * d_inv * j;
+    let loss = 0.5 * (u.transpose() * m_c * u)[(0, 0)];
+    (lambda[1], lambda[0], loss)
+}
+
+/// One touchdown step of size `dt`: (Λ_N, Λ_T, contact work) from the stepper.
+fn stepped_touchdown(phi: f64, u: Vector3<f64>, dt: f64, gravity: bool) -> (f64, f64, f64) {
+    let mut model = eccentric_disc(M, I, R, A, material(50.0, 0.0));
+    if !gravity {
+        model.gravity = Vec2::zeros();
+    }
+    let mut st = stepper(&model, dt);
+    // Place the disc so that the midpoint gap is just closed.
+    let phi_a = phi - 0.5 * dt * u[2];
+    let y_mid = R - A * phi.cos() - 1e-12;
+    let y_a = y_mid - 0.5 * dt * u[1];
+    let mut s = state(&[0.0, y_a, phi_a], u.as_slice());
+    let before = st.start(&model, &s).energy.kinetic;
+    let rec = st.step(&model, &mut s, &Actuation::default()).unwrap();
+    assert_eq!(rec.contacts.len(), 1);
+    let c = rec.contacts[0];
+    assert_eq!(c.state, ContactState::Stick);
+    let e = rec.energy;
+    if !gravity {
+        // Without other forces the kinetic energy changes by the contact work alone.
+        assert!((e.kinetic - before - e.contact_work).abs() < 1e-12);
+    }
+    (c.impulse_normal, c.impulse_tangent, e.contact_work)
+}
+
+const PHI: f64 = 0.4;
+
+fn pre_impact() -> Vector3<f64> {
+    Vector3::new(0.3, -1.2, -2.0)
+}
+
+/// Without gravity the step's percussion is exactly the impact map's, at any `Δt`.
+#[test]
+fn touchdown_step_reproduces_the_impact_map_without_gravity() {
+    let (ln, lt, loss) = closed_form_touchdown(PHI, pre_impact());
+    assert!(loss < 0.0);
+    for dt in [1e-2, 1e-3, 1e-4] {
+        let (sn, stan, de) = stepped_touchdown(PHI, pre_impact(), dt, false);
+        assert!(
+            (sn - ln).abs() < 1e-10 && (stan - lt).abs() < 1e-10,
+            "Λ ({sn}, {stan}) vs ({ln}, {lt})"
+        );
+        assert!((de - loss).abs() < 1e-10, "ΔE {de} vs {loss}");
+    }
+}
+
+/// With gravity the step also carries `m g Δt`: the percussion and the energy loss converge
+/// to the impact map's as `Δt → 0`.
+#[test]
+fn touchdown_with_gravity_converges_to_the_impact_map_as_dt_shrinks() {
+    let (ln, lt, loss) = closed_form_touchdown(PHI, pre_impact());
+    let mut previous = (f64::INFINITY, f64::INFINITY);
+    for dt in [1e-2, 1e-3, 1e-4, 1e-5] {
+        let (sn, stan, de) = stepped_touchdown(PHI, pre_impact(), dt, true);
+        let err = ((sn - ln).powi(2) + (stan - lt).powi(2)).sqrt() / ln.abs();
+        let loss_err = (de - loss).abs() / loss.abs();
+        assert!(
+            err < 0.5 * previous.0,
+            "impulse error {err} did not shrink at dt = {dt}"
+        );
+        assert!(
+            loss_err < 0.5 * previous.1,
+            "loss error {loss_err} did not shrink at dt = {dt}"
+        );
+        previous = (err, loss_err);
+    }
+    eprintln!("touchdown with gravity at dt = 1e-5: relative errors (Λ, ΔE) = {previous:?}");
+    assert!(
+        previous.0 < 1e-3 && previous.1 < 1e-3,
+        "errors at dt = 1e-5: {previous:?}"
+    );
+}
+
+fn shapes() -> impl Strategy<Value = Shape> {
+    prop_oneof![
+        (0.05..0.3f64, 0.0..0.8f64).prop_map(|(r, e)| Shape::Circle {
+            center: Vec2::new(0.0, e * r),
+            radius: r
+        }),
+        (0.05..0.3f64, 0.2..1.0f64).prop_map(|(a, ratio)| Shape::Ellipse {
+            center: Vec2::zeros(),
+            semi_x: a,
+            semi_y: a * ratio
+        }),
+        (0.05..0.3f64, 0.3..1.0f64).prop_map(|(w, ratio)| Shape::Polygon {
+            vertices: vec![
+                Vec2::new(-w, -w * ratio),
+                Vec2::new(w, -w * ratio),
+                Vec2::new(w, w * ratio),
+                Vec2::new(-w, w * ratio),
+            ]
+        }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// With `ε = 0` no contact step adds kinetic energy (gravity off, any friction).
+    #[test]
+    fn inelastic_contact_steps_never_gain_energy(
+        shape in shapes(),
+        phi in -3.0..3.0f64,
+        depth in 0.0..1e-3f64,
+        vx in -3.0..3.0f64, vy in -3.0..1.0f64, w in -20.0..20.0f64,
+        mu in 0.0..2.0f64,
+        dt in prop_oneof![Just(1e-4), Just(1e-3)],
+    ) {
+        let mut model = single_body(1.0, 0.01, shape, Terrain::flat(0.0), material(mu, 0.0));
+        model.gravity = Vec2::zeros();
+        let mut st = stepper(&model, dt);
+        // Lowest point of the shape at height -depth at the midpoint.
+        let mut s = state(&[0.0, 0.0, phi], &[vx, vy, w]);
+        st.start(&model, &s);
+        let lowest = (0..model.contacts.len())
+            .filter_map(|i| model.contact_geometry(st.workspace(), i))
+            .map(|g| g.gap)
+            .fold(f64::INFINITY, f64::min);
+        s.q[1] = -lowest - depth - 0.5 * dt * vy;
+        s.q[2] = phi - 0.5 * dt * w;
+        let before = st.start(&model, &s).energy.kinetic;
+        let rec = st.step(&model, &mut s, &Actuation::default()).unwrap();
+        prop_assert!(rec.energy.kinetic <= before * (1.0 + 1e-12) + 1e-12,
+            "kinetic {} -> {}", before, rec.energy.kinetic);
+        prop_assert!(rec.energy.contact_work <= 1e-12);
+    }
+}
+
+/// Robbit spun up by a motor and braked: the brake transfers angular momentum exactly
+/// (equal rates after it, body momentum change = logged impulse), and the energy account
+/// closes to the scheme's error over a run with impacts, rolling and flight.
+#[test]
+fn robbit_brake_exchanges_momentum_and_the_energy_balance_closes() {
+    let model = robbit();
+    let dt = 2e-4;
+    let mut st = stepper(&model, dt);
+    let y0 = 0.2 - 0.1;
+    let mut s = state(&[0.0, y0, 0.0, 0.0], &[0.0; 4]);
+    st.start(&model, &s);
+    let torque = 0.16;
+    let mut act = Actuation::default();
+    let (i_s, i_r) = (3.004e-3, 1.543e-3);
+    let mut braked = false;
+    let mut max_error: f64 = 0.0;
+    for _ in 0..10_000 {
+        act.clear();
+        let zeta = i_s * i_r / (i_s + i_r) * (s.u[3] - s.u[2]);
+        let brake_now = !braked && zeta >= 0.059;
+        if brake_now {
+            act.locks.push((0, 1));
+            braked = true;
+        } else if !braked {
+            act.torques.push(TorqueCommand {
+                body: 1,
+                reaction: Some(0),
+                torque,
+            });
+        }
+        let before = s.clone();
+        let rec = st.step(&model, &mut s, &act).unwrap();
+        if brake_now {
+            assert!(
+                (s.u[2] - s.u[3]).abs() < 1e-9,
+                "rates after brake {} {}",
+                s.u[2],
+                s.u[3]
+            );
+            let p = rec.lock_impulses[0];
+            // Angular momentum of the body about its CoM changes by the lock impulse plus
+            // the contact percussions' moments; with the disc's contact impulses included:
+            let contact_moment: f64 = rec
+                .contacts
+                .iter()
+                .map(|c| {
+                    let r = c.point
+                        - Vec2::new(
+                            before.q[0] + 0.5 * dt * before.u[0],
+                            before.q[1] + 0.5 * dt * before.u[1],
+                        );
+                    let t = Vec2::new(c.normal.y, -c.normal.x);
+                    let f = c.normal * c.impulse_normal + t * c.impulse_tangent;
+                    r.x * f.y - r.y * f.x
+                })
+                .sum();
+            let d_body = i_s * (s.u[2] - before.u[2]);
+            assert!(
+                (d_body - p - contact_moment).abs() < 1e-9 * p.abs().max(1.0),
+                "ΔL_body {d_body} vs P {p} + contacts {contact_moment}"
+            );
+            let d_fly = i_r * (s.u[3] - before.u[3]);
+            assert!((d_fly + p).abs() < 1e-9, "ΔL_flywheel {d_fly} vs -P {}", -p);
+            assert!(p > 0.05 && p < 0.07, "brake impulse {p}");
+        }
+        max_error = max_error.max(rec.energy.balance_error().abs());
+    }
+    assert!(braked, "never reached the impulse limit");
+    let e = st.record().energy;
+    let scale = e.actuator_work.abs() + e.dissipated().abs();
+    eprintln!(
+        "robbit: max |balance error| {max_error:.3e} J, actuator work {:.4} J, dissipated {:.4} J",
+        e.actuator_work,
+        e.dissipated()
+    );
+    assert!(e.dissipated() > 0.0);
+    assert!(
+        max_error < 2e-3 * scale,
+        "balance error {max_error} vs flows {scale}"
+    );
+}
+
+/// Reference: the no-slip rolling ODE of physics.md §2 with `T = 0`, integrated by RK4.
+fn rolling_reference(phi0: f64, t_end: f64) -> f64 {
+    let f = |phi: f64, w: f64| {
+        -(M * G * A * phi.sin() + M * A * R * w * w * phi.sin())
+            / (M * R * R + M * A * A + I - 2.0 * M * R * A * phi.cos())
+    };
+    let h = 1e-6;
+    let (mut phi, mut w) = (phi0, 0.0);
+    for _ in 0..(t_end / h).round() as usize {
+        let (k1p, k1w) = (w, f(phi, w));
+        let (k2p, k2w) = (w + 0.5 * h * k1w, f(phi + 0.5 * h * k1p, w + 0.5 * h * k1w));
+        let (k3p, k3w) = (w + 0.5 * h * k2w, f(phi + 0.5 * h * k2p, w + 0.5 * h * k2w));
+        let (k4p, k4w) = (w + h * k3w, f(phi + h * k3p, w + h * k3w));
+        phi += h / 6.0 * (k1p + 2.0 * k2p + 2.0 * k3p + k4p);
+        w += h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w);
+    }
+    phi
+}
+
+/// The rolling eccentric disc converges to the rolling ODE at (at least) first order.
+#[test]
+fn rolling_disc_converges_to_the_rolling_ode() {
+    let (phi0, t_end) = (0.6, 0.5);
+    let reference = rolling_reference(phi0, t_end);
+    let errors: Vec<f64> = [2e-3, 1e-3, 5e-4, 2.5e-4]
+        .iter()
+        .map(|&dt| {
+            let model = eccentric_disc(M, I, R, A, material(10.0, 0.0));
+            let mut st = stepper(&model, dt);
+            let mut s: State = state(&[0.0, R - A * phi0.cos(), phi0], &[0.0; 3]);
+            run(
+                &model,
+                &mut st,
+                &mut s,
+                (t_end / dt).round() as usize,
+                |_, _| {},
+            );
+            (s.q[2] - reference).abs()
+        })
+        .collect();
+    eprintln!("rolling disc: |φ - φ_ref| at t = {t_end} s for dt = 2e-3 … 2.5e-4: {errors:?}");
+    for pair in errors.windows(2) {
+        let order = (pair[0] / pair[1]).log2();
+        assert!(order > 0.8, "observed order {order} from errors {errors:?}");
+    }
+    assert!(errors[3] < 5e-3, "errors {errors:?}");
+}

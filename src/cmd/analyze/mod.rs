@@ -1,0 +1,47 @@
+//! `hopsim analyze …`: closed-form maps and reduced models of physics.md §5
+//! (`docs/analysis.md`), computed by the `hopsim-analysis` crate.
+//!
+//! Every subcommand prints a readable table by default, one JSON object with `--json`, and
+//! writes CSV files and PNG/SVG plots into `--out DIR` (created if missing, files written
+//! atomically). Invalid arguments exit with code 2.
+//!
+//! Adding a subcommand: create `src/cmd/analyze/<name>.rs` with a clap `Args` struct and
+//! `pub fn run(args) -> anyhow::Result<()>` (use [`common`] for output), then add one
+//! variant to [`AnalyzeCommand`] and one arm to [`run`].
+
+pub mod common;
+pub mod impulsive_wheel;
+pub mod obstacle;
+pub mod template;
+
+use clap::{Args, Subcommand};
+use std::process::ExitCode;
+
+/// Closed-form maps and reduced models of the thesis.
+#[derive(Args)]
+pub struct AnalyzeArgs {
+    #[command(subcommand)]
+    pub command: AnalyzeCommand,
+}
+
+#[derive(Subcommand)]
+pub enum AnalyzeCommand {
+    /// The four-map impulsive eccentric-wheel template (§5.1): named cases, the Cargo
+    /// l/R × φ_TO grid, animal stride-versus-speed sweeps.
+    Template(template::TemplateArgs),
+    /// Energy to get a wheel over a wall: rolling, trivial hop, rotational hop (§5.2);
+    /// region maps over α × Fr and over body mass × speed.
+    Obstacle(obstacle::ObstacleArgs),
+    /// The impulsive wheel's take-off-angle return map (§5.5): fixed point, eigenvalue,
+    /// stable impulse interval, bifurcation diagram, iteration series.
+    ImpulsiveWheel(impulsive_wheel::ImpulsiveWheelArgs),
+}
+
+pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
+    let result = match args.command {
+        AnalyzeCommand::Template(args) => template::run(args),
+        AnalyzeCommand::Obstacle(args) => obstacle::run(args),
+        AnalyzeCommand::ImpulsiveWheel(args) => impulsive_wheel::run(args),
+    };
+    common::exit_code(result)
+}

@@ -1,0 +1,110 @@
+//! `hopsim run SCENE`: simulate a scene, record it, print the summary.
+
+use anyhow::Context;
+use clap::Args;
+use hopsim_record::{CsvRecorder, McapRecorder, RecorderSet, RerunRecorder};
+use hopsim_scene::Override;
+use hopsim_sim::{recording_info, RecordingObserver, RunOptions};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use super::exit;
+
+/// Simulate a scene file and record the trajectory.
+#[derive(Args)]
+pub struct RunArgs {
+    /// The scene file (TOML), e.g. scenes/robbit.toml.
+    pub scene: PathBuf,
+    /// Simulated time in seconds (overrides simulation.duration).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Step size in seconds (overrides simulation.dt).
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Override any scalar scene key, e.g. --set controller.torque=0.2 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<Override>,
+    /// Write an MCAP recording (Foxglove, Python `mcap`).
+    #[arg(long, value_name = "FILE")]
+    pub mcap: Option<PathBuf>,
+    /// Write a Rerun recording (.rrd).
+    #[arg(long, value_name = "FILE")]
+    pub rrd: Option<PathBuf>,
+    /// Stream to a live Rerun viewer (needs the `rerun` viewer on PATH).
+    #[arg(long)]
+    pub spawn: bool,
+    /// Write the recorded frames as CSV (events go to FILE's stem + .events.csv).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write the run summary as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub summary: Option<PathBuf>,
+    /// Print nothing but errors (no progress bar, no summary).
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Stop on the first contact LCP without a certified solution.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
+    let mut overrides = args.overrides.clone();
+    let mut set = |key: &str, value: String| {
+        overrides.push(Override {
+            key: key.into(),
+            value,
+        })
+    };
+    if let Some(d) = args.duration {
+        set("simulation.duration", d.to_string());
+    }
+    if let Some(dt) = args.dt {
+        set("simulation.dt", dt.to_string());
+    }
+    if args.strict {
+        set("simulation.strict", "true".into());
+    }
+    let scene = match hopsim_scene::load(&args.scene, &overrides) {
+        Ok(scene) => scene,
+        Err(err) => {
+            eprintln!("error: {err}");
+            return Ok(ExitCode::from(exit::INVALID_INPUT));
+        }
+    };
+    let info = recording_info(&scene);
+    let mut recorders = RecorderSet::default();
+    if let Some(path) = &args.mcap {
+        recorders.push(Box::new(McapRecorder::create(path, &info)?));
+    }
+    if let Some(path) = &args.rrd {
+        recorders.push(Box::new(RerunRecorder::save(path, &info)?));
+    }
+    if args.spawn {
+        recorders.push(Box::new(RerunRecorder::spawn(&info)?));
+    }
+    if let Some(path) = &args.csv {
+        recorders.push(Box::new(CsvRecorder::create(path, &info)?));
+    }
+    let mut observer = RecordingObserver::new(recorders, &scene);
+    let options = RunOptions {
+        duration: None,
+        progress: (!args.quiet).then(|| super::progress::bar(scene.settings.duration, "simulating")),
+    };
+    let summary = match hopsim_sim::run(&scene, &options, &mut observer) {
+        Ok(summary) => summary,
+        Err(err) => {
+            eprintln!("error: {}: {err}", args.scene.display());
+            return Ok(ExitCode::from(exit::SIMULATION_FAILED));
+        }
+    };
+    observer.finish()?;
+    if let Some(path) = &args.summary {
+        let json = serde_json::to_string_pretty(&summary)?;
+        hopsim_record::write_atomically(path, |w| w.write_all(json.as_bytes()))
+            .with_context(|| format!("writing the summary to {}", path.display()))?;
+    }
+    if !args.quiet {
+        println!("{summary}");
+    }
+    Ok(ExitCode::SUCCESS)
+}
