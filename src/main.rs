@@ -22,6 +22,8 @@ enum Command {
     Lcp(cmd::lcp::LcpArgs),
     /// Reduced models of the thesis: template, obstacle, impulsive wheel (docs/analysis.md).
     Analyze(cmd::analyze::AnalyzeArgs),
+    /// Compare two recordings' contact-impulse traces; non-zero exit where they differ.
+    Compare(cmd::compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -29,6 +31,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Lcp(args) => cmd::lcp::run(args),
         Command::Analyze(args) => cmd::analyze::run(args),
+        Command::Compare(args) => cmd::compare::run(args),
     };
     match result {
         Ok(code) => code,

@@ -1,5 +1,6 @@
 //! One module per `hopsim` subcommand.
 
 pub mod analyze;
+pub mod compare;
 pub mod exit;
 pub mod lcp;

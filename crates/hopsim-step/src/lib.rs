@@ -11,8 +11,10 @@ mod linalg;
 mod record;
 mod state;
 mod stepper;
+mod trace;
 
 pub use actuation::{Actuation, ImpulseCommand, TorqueCommand};
-pub use record::{ContactRecord, ContactState, EnergyLedger, LcpStats, StepRecord};
+pub use record::{ContactRecord, ContactState, EnergyLedger, LcpStats, LockRecord, StepRecord};
 pub use state::State;
 pub use stepper::{StepError, StepSettings, Stepper};
+pub use trace::{ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance};

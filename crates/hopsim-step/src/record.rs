@@ -45,6 +45,17 @@ pub struct ContactRecord {
     pub state: ContactState,
 }
 
+/// One velocity lock (brake) of a step: `θ̇_body = θ̇_other` enforced at the step's end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LockRecord {
+    /// Body whose rotation is locked to `other`'s.
+    pub body: usize,
+    /// The other body of the pair.
+    pub other: usize,
+    /// Angular impulse on `body` (its opposite acts on `other`), N m s.
+    pub impulse: f64,
+}
+
 /// Running energy account of a simulation (physics.md §6), J.
 ///
 /// `kinetic + potential + spring - initial = actuator_work + contact_work + lock_work +
@@ -109,9 +120,9 @@ pub struct StepRecord {
     pub t: f64,
     /// The contacts of the index set.
     pub contacts: Vec<ContactRecord>,
-    /// Impulse of each velocity lock requested for this step, N m s (same order as
-    /// [`crate::Actuation::locks`]); the impulse on the first body of the pair.
-    pub lock_impulses: Vec<f64>,
+    /// The velocity locks (brakes) of this step with their impulses, in the order of
+    /// [`crate::Actuation::locks`].
+    pub locks: Vec<LockRecord>,
     /// Energy account after the step.
     pub energy: EnergyLedger,
     /// Pivots of this step's LCP (0 without contacts).

@@ -2,8 +2,8 @@
 
 use crate::linalg::{cholesky_in_place, cholesky_solve, col_dot, col_dot_vec, mat_vec};
 use crate::{
-    Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, State,
-    StepRecord,
+    Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LockRecord,
+    State, StepRecord,
 };
 use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver};
 use hopsim_model::{ContactGeometry, Model, Workspace};
@@ -149,7 +149,7 @@ impl Stepper {
             lcp_b: DVector::zeros(3 * k),
             record: StepRecord {
                 contacts: Vec::with_capacity(k),
-                lock_impulses: Vec::with_capacity(locks),
+                locks: Vec::with_capacity(locks),
                 ..StepRecord::default()
             },
             stats: LcpStats::default(),
@@ -195,7 +195,7 @@ impl Stepper {
         self.record.step = 0;
         self.record.t = state.t;
         self.record.contacts.clear();
-        self.record.lock_impulses.clear();
+        self.record.locks.clear();
         self.record.energy = energy;
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
@@ -586,7 +586,7 @@ impl Stepper {
             energy.contact_work += contact * m;
         }
         // The lock impulses follow from M (u^E - u^A) = hΔt + impulses + WΛ + B P.
-        self.record.lock_impulses.clear();
+        self.record.locks.clear();
         let locks = actuation.locks.len();
         if locks > 0 {
             for i in 0..n {
@@ -610,8 +610,12 @@ impl Stepper {
             if cholesky_in_place(&mut self.s_lock, locks) {
                 cholesky_solve(&self.s_lock, locks, &mut self.scratch);
             }
-            for c in 0..locks {
-                self.record.lock_impulses.push(self.scratch[c]);
+            for (c, &(body, other)) in actuation.locks.iter().enumerate() {
+                self.record.locks.push(LockRecord {
+                    body,
+                    other,
+                    impulse: self.scratch[c],
+                });
             }
             energy.lock_work += (0..n).map(|i| self.scratch2[i] * mean(i)).sum::<f64>();
         }

@@ -192,7 +192,7 @@ fn robbit_brake_exchanges_momentum_and_the_energy_balance_closes() {
                 s.u[2],
                 s.u[3]
             );
-            let p = rec.lock_impulses[0];
+            let p = rec.locks[0].impulse;
             // Angular momentum of the body about its CoM changes by the lock impulse plus
             // the contact percussions' moments; with the disc's contact impulses included:
             let contact_moment: f64 = rec

@@ -10,6 +10,7 @@
 //! variant to [`AnalyzeCommand`] and one arm to [`run`].
 
 pub mod common;
+pub mod fixed_points;
 pub mod impulsive_wheel;
 pub mod obstacle;
 pub mod template;
@@ -35,6 +36,9 @@ pub enum AnalyzeCommand {
     /// The impulsive wheel's take-off-angle return map (§5.5): fixed point, eigenvalue,
     /// stable impulse interval, bifurcation diagram, iteration series.
     ImpulsiveWheel(impulsive_wheel::ImpulsiveWheelArgs),
+    /// Robbit's fixed-point controls β* = (T*, ζ0*) and their stability over a grid of
+    /// take-off angle × take-off energy (§5.3).
+    FixedPoints(fixed_points::FixedPointsArgs),
 }
 
 pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
@@ -42,6 +46,7 @@ pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
         AnalyzeCommand::Template(args) => template::run(args),
         AnalyzeCommand::Obstacle(args) => obstacle::run(args),
         AnalyzeCommand::ImpulsiveWheel(args) => impulsive_wheel::run(args),
+        AnalyzeCommand::FixedPoints(args) => fixed_points::run(args),
     };
     common::exit_code(result)
 }

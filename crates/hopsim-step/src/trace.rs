@@ -1,0 +1,387 @@
+//! Contact-impulse traces: the per-step percussions of a run, as a regression artefact.
+//!
+//! A trace holds, for every step, the normal and tangential percussions `Λ_N`, `Λ_T` of each
+//! contact that carried one and the impulse of each velocity lock (brake). Traces are
+//! written as CSV (`tests/golden/*.csv`, `hopsim compare`), read back exactly (shortest
+//! round-trip floats) and compared sample by sample with a tolerance; a sample missing on
+//! one side counts as zero there, so a contact that touches with a vanishing percussion in
+//! one run and not at all in the other is not a difference.
+
+use crate::StepRecord;
+use hopsim_model::Model;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// First line of a trace file.
+const HEADER: &str = "# hopsim impulse trace v1";
+/// Column names (second line).
+const COLUMNS: &str = "step,t_s,channel,normal_Ns,tangent_Ns";
+/// Environment variable that makes [`ImpulseTrace::check_golden`] rewrite golden files.
+pub const BLESS_ENV: &str = "HOPSIM_BLESS";
+
+/// One impulse of one step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImpulseSample {
+    /// Step index (1 for the first step).
+    pub step: u64,
+    /// Time at the end of the step, s.
+    pub t: f64,
+    /// A contact's name (e.g. `disc/terrain0`) or `lock:<body>-<other>` for a brake.
+    pub channel: String,
+    /// `Λ_N` of a contact, N s; the angular impulse of a lock on its first body, N m s.
+    pub normal: f64,
+    /// `Λ_T` of a contact, N s; 0 for a lock.
+    pub tangent: f64,
+}
+
+/// How far two traces may differ: `|a − b| ≤ abs + rel·max(|a|, |b|)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceTolerance {
+    /// Absolute tolerance, N s.
+    pub abs: f64,
+    /// Relative tolerance.
+    pub rel: f64,
+}
+
+impl Default for TraceTolerance {
+    /// `abs = 1e-9 N s`, `rel = 1e-6`: far above round-off differences between builds of
+    /// the same code, far below any change of the physics.
+    fn default() -> Self {
+        Self {
+            abs: 1e-9,
+            rel: 1e-6,
+        }
+    }
+}
+
+/// The first place where two traces disagree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceDifference {
+    /// Step of the first differing sample.
+    pub step: u64,
+    /// Its time, s.
+    pub t: f64,
+    /// Its channel.
+    pub channel: String,
+    /// `"normal"` or `"tangent"`.
+    pub component: &'static str,
+    /// Value in the reference trace (0 if it has no such sample).
+    pub expected: f64,
+    /// Value in the other trace (0 if it has no such sample).
+    pub found: f64,
+    /// Number of differing samples in all.
+    pub count: usize,
+    /// Largest absolute difference over all samples.
+    pub max_abs: f64,
+}
+
+impl std::fmt::Display for TraceDifference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "first difference at step {} (t = {:.6} s), {} {}: expected {:e}, found {:e} \
+             ({} differing samples, largest difference {:e})",
+            self.step,
+            self.t,
+            self.channel,
+            self.component,
+            self.expected,
+            self.found,
+            self.count,
+            self.max_abs
+        )
+    }
+}
+
+/// A trace file that cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum TraceError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}:{line}: {message}")]
+    Format {
+        path: String,
+        line: usize,
+        message: String,
+    },
+}
+
+/// The impulses of a run, in step order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImpulseTrace {
+    pub samples: Vec<ImpulseSample>,
+}
+
+impl ImpulseTrace {
+    /// Appends the percussions of `record` (contacts that carried one, and every lock).
+    pub fn push_record(&mut self, model: &Model, record: &StepRecord) {
+        for c in &record.contacts {
+            if c.impulse_normal != 0.0 || c.impulse_tangent != 0.0 {
+                self.samples.push(ImpulseSample {
+                    step: record.step,
+                    t: record.t,
+                    channel: model.contacts[c.contact].name.clone(),
+                    normal: c.impulse_normal,
+                    tangent: c.impulse_tangent,
+                });
+            }
+        }
+        for lock in &record.locks {
+            self.samples.push(ImpulseSample {
+                step: record.step,
+                t: record.t,
+                channel: format!(
+                    "lock:{}-{}",
+                    model.bodies[lock.body].name, model.bodies[lock.other].name
+                ),
+                normal: lock.impulse,
+                tangent: 0.0,
+            });
+        }
+    }
+
+    /// The trace as CSV (header line, column line, one row per sample).
+    pub fn to_csv(&self) -> String {
+        let mut s = format!("{HEADER}\n{COLUMNS}\n");
+        for x in &self.samples {
+            let _ = writeln!(
+                s,
+                "{},{:?},{},{:?},{:?}",
+                x.step, x.t, x.channel, x.normal, x.tangent
+            );
+        }
+        s
+    }
+
+    /// Parses [`ImpulseTrace::to_csv`] output; `origin` names the source in errors.
+    pub fn from_csv(text: &str, origin: &str) -> Result<Self, TraceError> {
+        let err = |line: usize, message: String| TraceError::Format {
+            path: origin.to_string(),
+            line,
+            message,
+        };
+        let mut lines = text.lines().enumerate();
+        match lines.next() {
+            Some((_, HEADER)) => {}
+            other => {
+                let found = other.map_or("an empty file", |(_, l)| l);
+                return Err(err(1, format!("expected '{HEADER}', found '{found}'")));
+            }
+        }
+        match lines.next() {
+            Some((_, COLUMNS)) => {}
+            other => {
+                let found = other.map_or("end of file", |(_, l)| l);
+                return Err(err(2, format!("expected '{COLUMNS}', found '{found}'")));
+            }
+        }
+        let mut samples = Vec::new();
+        for (i, line) in lines {
+            if line.trim().is_empty() {
+                continue;
+            }
+            let fields: Vec<&str> = line.split(',').collect();
+            let [step, t, channel, normal, tangent] = fields[..] else {
+                let n = fields.len();
+                return Err(err(
+                    i + 1,
+                    format!("expected 5 fields ({COLUMNS}), found {n}"),
+                ));
+            };
+            let number = |name: &str, v: &str| {
+                v.parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| err(i + 1, format!("{name} '{v}' is not a finite number")))
+            };
+            samples.push(ImpulseSample {
+                step: step
+                    .parse()
+                    .map_err(|_| err(i + 1, format!("step '{step}' is not an integer")))?,
+                t: number("t_s", t)?,
+                channel: channel.to_string(),
+                normal: number("normal_Ns", normal)?,
+                tangent: number("tangent_Ns", tangent)?,
+            });
+        }
+        Ok(Self { samples })
+    }
+
+    /// Reads a trace file.
+    pub fn read(path: &Path) -> Result<Self, TraceError> {
+        let text = std::fs::read_to_string(path).map_err(|source| TraceError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_csv(&text, &path.display().to_string())
+    }
+
+    /// Writes the trace atomically (temporary file in the same folder, then rename).
+    pub fn write(&self, path: &Path) -> Result<(), TraceError> {
+        let io = |source| TraceError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(io)?;
+        }
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".partial");
+        std::fs::write(&tmp, self.to_csv()).map_err(io)?;
+        std::fs::rename(&tmp, path).map_err(io)
+    }
+
+    /// Compares `other` against `self` (the reference); `None` when every sample agrees
+    /// within `tol` (a sample missing on one side counts as zero there).
+    pub fn compare(&self, other: &Self, tol: TraceTolerance) -> Option<TraceDifference> {
+        type Key<'a> = (u64, &'a str);
+        fn index(trace: &ImpulseTrace) -> BTreeMap<Key<'_>, &ImpulseSample> {
+            trace
+                .samples
+                .iter()
+                .map(|s| ((s.step, s.channel.as_str()), s))
+                .collect()
+        }
+        let (a, b) = (index(self), index(other));
+        let mut keys: Vec<Key<'_>> = a.keys().chain(b.keys()).copied().collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let mut first: Option<TraceDifference> = None;
+        let (mut count, mut max_abs) = (0, 0.0_f64);
+        for key in keys {
+            let (sa, sb) = (a.get(&key), b.get(&key));
+            let t = sa.or(sb).map_or(0.0, |s| s.t);
+            let pick =
+                |s: Option<&&ImpulseSample>, f: fn(&ImpulseSample) -> f64| s.map_or(0.0, |s| f(s));
+            for (component, f) in [
+                (
+                    "normal",
+                    (|s: &ImpulseSample| s.normal) as fn(&ImpulseSample) -> f64,
+                ),
+                ("tangent", |s: &ImpulseSample| s.tangent),
+            ] {
+                let (x, y) = (pick(sa, f), pick(sb, f));
+                let diff = (x - y).abs();
+                if diff <= tol.abs + tol.rel * x.abs().max(y.abs()) {
+                    continue;
+                }
+                count += 1;
+                max_abs = max_abs.max(diff);
+                first.get_or_insert_with(|| TraceDifference {
+                    step: key.0,
+                    t,
+                    channel: key.1.to_string(),
+                    component,
+                    expected: x,
+                    found: y,
+                    count: 0,
+                    max_abs: 0.0,
+                });
+            }
+        }
+        first.map(|d| TraceDifference {
+            count,
+            max_abs,
+            ..d
+        })
+    }
+
+    /// Compares the trace with the golden file at `path`, or (re)writes that file when the
+    /// environment variable `HOPSIM_BLESS` is set to anything but `0`. The error says what
+    /// differs and how to regenerate the file deliberately.
+    pub fn check_golden(&self, path: &Path, tol: TraceTolerance) -> Result<(), String> {
+        let bless = std::env::var(BLESS_ENV).is_ok_and(|v| !v.is_empty() && v != "0");
+        if bless {
+            return self.write(path).map_err(|e| e.to_string());
+        }
+        let how =
+            format!("if the change is intended, regenerate with {BLESS_ENV}=1 and review the diff");
+        if !path.exists() {
+            return Err(format!("{}: golden trace missing; {how}", path.display()));
+        }
+        let golden = Self::read(path).map_err(|e| e.to_string())?;
+        match golden.compare(self, tol) {
+            None => Ok(()),
+            Some(d) => Err(format!("{}: {d}; {how}", path.display())),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(step: u64, channel: &str, normal: f64, tangent: f64) -> ImpulseSample {
+        ImpulseSample {
+            step,
+            t: step as f64 * 1e-3,
+            channel: channel.into(),
+            normal,
+            tangent,
+        }
+    }
+
+    fn trace(samples: Vec<ImpulseSample>) -> ImpulseTrace {
+        ImpulseTrace { samples }
+    }
+
+    #[test]
+    fn csv_round_trips_exactly() {
+        let a = trace(vec![
+            sample(1, "disc/terrain0", 0.1 + 0.2, -1.0 / 3.0),
+            sample(7, "lock:disc-flywheel", 5.9e-2, 0.0),
+        ]);
+        let b = ImpulseTrace::from_csv(&a.to_csv(), "mem").unwrap();
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn identical_traces_agree_and_a_changed_sample_is_named() {
+        let a = trace(vec![
+            sample(1, "c", 1.0, 0.5),
+            sample(2, "c", 1.0, 0.5),
+            sample(3, "c", 1.0, 0.5),
+        ]);
+        assert_eq!(a.compare(&a.clone(), TraceTolerance::default()), None);
+        let mut b = a.clone();
+        b.samples[1].tangent = 0.5 + 1e-3;
+        b.samples[2].normal = 2.0;
+        let d = a.compare(&b, TraceTolerance::default()).unwrap();
+        assert_eq!(
+            (d.step, d.channel.as_str(), d.component),
+            (2, "c", "tangent")
+        );
+        assert_eq!(d.count, 2);
+        assert!((d.max_abs - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_missing_sample_counts_as_zero() {
+        let a = trace(vec![sample(1, "c", 1.0, 0.0), sample(2, "d", 1e-12, 0.0)]);
+        let b = trace(vec![sample(1, "c", 1.0, 0.0)]);
+        assert_eq!(a.compare(&b, TraceTolerance::default()), None);
+        let c = trace(vec![sample(1, "c", 1.0, 0.0), sample(2, "d", 0.1, 0.0)]);
+        let d = b.compare(&c, TraceTolerance::default()).unwrap();
+        assert_eq!((d.step, d.expected, d.found), (2, 0.0, 0.1));
+    }
+
+    #[test]
+    fn malformed_files_name_the_line() {
+        let e = ImpulseTrace::from_csv("nope", "f.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("f.csv:1:"), "{e}");
+        let text = format!("{HEADER}\n{COLUMNS}\n1,0.1,c,abc,0\n");
+        let e = ImpulseTrace::from_csv(&text, "f.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("f.csv:3:") && e.contains("normal_Ns 'abc'"),
+            "{e}"
+        );
+    }
+}
