@@ -18,6 +18,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Simulate a scene file; record to MCAP / Rerun / CSV; print the run summary.
+    Run(cmd::run::RunArgs),
+    /// Run a scene over a parameter grid on all cores; CSV of summaries and a plot.
+    Sweep(cmd::sweep::SweepArgs),
+    /// Scene files: validate without running.
+    Scene(cmd::scene::SceneCommandArgs),
     /// Linear complementarity problems: solve `.dat` files with Lemke's method.
     Lcp(cmd::lcp::LcpArgs),
     /// Reduced models of the thesis: template, obstacle, impulsive wheel (docs/analysis.md).
@@ -29,6 +35,9 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Run(args) => cmd::run::run(args),
+        Command::Sweep(args) => cmd::sweep::run(args),
+        Command::Scene(args) => cmd::scene::run(args),
         Command::Lcp(args) => cmd::lcp::run(args),
         Command::Analyze(args) => cmd::analyze::run(args),
         Command::Compare(args) => cmd::compare::run(args),

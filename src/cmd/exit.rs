@@ -2,3 +2,5 @@
 
 /// A scene file, override or argument is invalid.
 pub const INVALID_INPUT: u8 = 2;
+/// The simulation stopped: NaN or runaway state, or an LCP failure in strict mode.
+pub const SIMULATION_FAILED: u8 = 3;

@@ -4,3 +4,7 @@ pub mod analyze;
 pub mod compare;
 pub mod exit;
 pub mod lcp;
+pub mod progress;
+pub mod run;
+pub mod scene;
+pub mod sweep;

@@ -8,26 +8,23 @@ use hopsim_sim::{recording_info, RecordingObserver, RunOptions};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use super::exit;
+use super::{exit, scene::SceneArgs};
 
-/// Simulate a scene file and record the trajectory.
+/// Simulate a scene file, record the trajectory and print the run summary.
 #[derive(Args)]
 pub struct RunArgs {
-    /// The scene file (TOML), e.g. scenes/robbit.toml.
-    pub scene: PathBuf,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Simulated time in seconds (overrides simulation.duration).
-    #[arg(long)]
+    #[arg(long, value_name = "SECONDS")]
     pub duration: Option<f64>,
     /// Step size in seconds (overrides simulation.dt).
-    #[arg(long)]
+    #[arg(long, value_name = "SECONDS")]
     pub dt: Option<f64>,
-    /// Override any scalar scene key, e.g. --set controller.torque=0.2 (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<Override>,
-    /// Write an MCAP recording (Foxglove, Python `mcap`).
+    /// Write an MCAP recording (Foxglove, Python `mcap` reader).
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
-    /// Write a Rerun recording (.rrd).
+    /// Write a Rerun recording (.rrd), to open with `rerun FILE`.
     #[arg(long, value_name = "FILE")]
     pub rrd: Option<PathBuf>,
     /// Stream to a live Rerun viewer (needs the `rerun` viewer on PATH).
@@ -48,28 +45,25 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
-    let mut overrides = args.overrides.clone();
+    let mut extra = Vec::new();
     let mut set = |key: &str, value: String| {
-        overrides.push(Override {
+        extra.push(Override {
             key: key.into(),
             value,
         })
     };
     if let Some(d) = args.duration {
-        set("simulation.duration", d.to_string());
+        set("simulation.duration", format!("{d:?}"));
     }
     if let Some(dt) = args.dt {
-        set("simulation.dt", dt.to_string());
+        set("simulation.dt", format!("{dt:?}"));
     }
     if args.strict {
         set("simulation.strict", "true".into());
     }
-    let scene = match hopsim_scene::load(&args.scene, &overrides) {
+    let scene = match args.scene.load(&extra) {
         Ok(scene) => scene,
-        Err(err) => {
-            eprintln!("error: {err}");
-            return Ok(ExitCode::from(exit::INVALID_INPUT));
-        }
+        Err(code) => return Ok(code),
     };
     let info = recording_info(&scene);
     let mut recorders = RecorderSet::default();
@@ -87,13 +81,16 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     }
     let mut observer = RecordingObserver::new(recorders, &scene);
     let options = RunOptions {
-        duration: None,
         progress: (!args.quiet).then(|| super::progress::bar(scene.settings.duration, "simulating")),
     };
     let summary = match hopsim_sim::run(&scene, &options, &mut observer) {
         Ok(summary) => summary,
         Err(err) => {
-            eprintln!("error: {}: {err}", args.scene.display());
+            // Recorders dropped unfinished leave no output file behind.
+            eprintln!("error: {}: {err}", scene.path.display());
+            if observer.records_anything() {
+                eprintln!("error: no recording was written: the run did not finish");
+            }
             return Ok(ExitCode::from(exit::SIMULATION_FAILED));
         }
     };

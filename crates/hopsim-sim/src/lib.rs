@@ -13,5 +13,7 @@ pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView};
 pub use recording::{recording_info, RecordingObserver};
 pub use simulation::{run, RunError, RunOptions, Simulation};
-pub use sweep::{grid_points, sweep, GridAxis, SweepPoint};
-pub use summary::{CubeBaseline, EnergySummary, ImpulseSummary, LcpSummary, RobbitSummary, Summary};
+pub use sweep::{grid_jobs, grid_points, sweep, GridAxis, SweepJob, SweepPoint};
+pub use summary::{
+    CubeBaseline, EnergySummary, ImpulseSummary, LcpSummary, RobbitSummary, Summary,
+};

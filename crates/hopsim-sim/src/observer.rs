@@ -20,8 +20,6 @@ pub struct StepView<'a> {
     pub shapes_active: &'a [bool],
     /// Motor torque commanded in this step, N m.
     pub torque: f64,
-    /// Smallest gap of any enabled contact at the end of the step, m.
-    pub min_gap: f64,
 }
 
 /// Something that watches a run: recorders, the summary, golden-trace collectors.

@@ -33,6 +33,7 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
         springs: model.springs.iter().map(|s| s.name.clone()).collect(),
         terrain: model.terrain.clone(),
         dt: scene.settings.dt,
+        weight_newtons: model.total_mass() * model.gravity.norm(),
     }
 }
 
@@ -50,7 +51,9 @@ impl RecordingObserver {
     /// Records every `round(1 / (rate Δt))`-th step (at least every step) and every step
     /// with an event.
     pub fn new(recorders: RecorderSet, scene: &Scene) -> Self {
-        let every = (1.0 / (scene.settings.record_rate * scene.settings.dt)).round().max(1.0) as u64;
+        let every = (1.0 / (scene.settings.record_rate * scene.settings.dt))
+            .round()
+            .max(1.0) as u64;
         Self {
             recorders,
             every,
@@ -61,6 +64,11 @@ impl RecordingObserver {
         }
     }
 
+    /// Whether any recorder is attached.
+    pub fn records_anything(&self) -> bool {
+        !self.recorders.is_empty()
+    }
+
     /// Completes every recording.
     pub fn finish(self) -> Result<(), RunError> {
         Ok(self.recorders.finish()?)
@@ -69,11 +77,14 @@ impl RecordingObserver {
 
 impl Observer for RecordingObserver {
     fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        if self.recorders.is_empty() {
+            return Ok(());
+        }
         for ev in view.events {
             self.recorders.event(ev)?;
         }
         let step = view.record.step;
-        if step % self.every != 0 && view.events.is_empty() && step != 1 {
+        if !step.is_multiple_of(self.every) && view.events.is_empty() && step != 1 {
             return Ok(());
         }
         let ws = view.kinematics;

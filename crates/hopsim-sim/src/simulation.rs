@@ -16,16 +16,13 @@ pub enum RunError {
     Step(#[from] StepError),
     #[error("recording failed: {0}")]
     Record(#[from] RecordError),
-    #[error("{0}")]
-    Other(String),
 }
 
 /// Options of a run beyond the scene's settings.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
-    /// Override of the scene's duration, s.
-    pub duration: Option<f64>,
-    /// Progress bar to advance (simulated seconds, in milliseconds as the unit).
+    /// Progress bar over simulated milliseconds; it is drawn (on a terminal only) once the
+    /// run has taken more than a second of wall time.
     pub progress: Option<ProgressBar>,
 }
 
@@ -105,7 +102,7 @@ impl<'s> Simulation<'s> {
         };
         self.controller
             .control(&input, &mut self.actuation, &mut self.control_events);
-        let t0 = self.state.t;
+        let (t0, step0) = (self.state.t, self.stepper.record().step);
         for ev in &self.control_events {
             if let ControlEvent::ShapeSwitch { shape, active } = *ev {
                 self.shapes_active[shape] = active;
@@ -116,7 +113,7 @@ impl<'s> Simulation<'s> {
                 }
                 self.events.push(Event {
                     t: t0,
-                    step: self.stepper.record().step,
+                    step: step0,
                     kind: EventKind::ShapeSwitch {
                         shape: model.shapes[shape].name.clone(),
                         active,
@@ -127,20 +124,18 @@ impl<'s> Simulation<'s> {
         let record = self
             .stepper
             .step(model, &mut self.state, &self.actuation)?;
-        let step = record.step;
-        for (k, ev) in self.control_events.iter().enumerate() {
-            if let ControlEvent::Brake { .. } = ev {
-                self.events.push(Event {
-                    t: t0,
-                    step,
-                    kind: EventKind::Brake {
-                        impulse: record.lock_impulses.get(k).copied().unwrap_or(0.0).abs(),
-                    },
-                });
-            }
+        // A brake acts inside the step: the event carries the impulse actually transferred.
+        for lock in &record.locks {
+            self.events.push(Event {
+                t: t0,
+                step: record.step,
+                kind: EventKind::Brake {
+                    impulse: lock.impulse.abs(),
+                },
+            });
         }
         self.loaded = record.in_contact();
-        let min_gap = min_gap(self);
+        let (step, min_gap) = (record.step, record.min_gap);
         match self.flight.update(self.state.t, step, self.loaded, min_gap) {
             Some(FlightEvent::TakeOff { t, step }) => self.events.push(Event {
                 t,
@@ -148,11 +143,10 @@ impl<'s> Simulation<'s> {
                 kind: EventKind::TakeOff,
             }),
             Some(FlightEvent::Touchdown { t, step }) => {
-                let record = self.stepper.record();
                 let contact = record
                     .contacts
                     .iter()
-                    .find(|c| c.impulse_normal > 0.0)
+                    .max_by(|a, b| a.impulse_normal.total_cmp(&b.impulse_normal))
                     .map(|c| model.contacts[c.contact].name.clone())
                     .unwrap_or_default();
                 self.events.push(Event {
@@ -172,36 +166,27 @@ impl<'s> Simulation<'s> {
             events: &self.events,
             shapes_active: &self.shapes_active,
             torque,
-            min_gap,
         })
     }
 }
 
-/// Smallest gap over the enabled contacts at the end of the last step.
-fn min_gap(sim: &Simulation<'_>) -> f64 {
-    let model = &sim.scene.model;
-    (0..model.contacts.len())
-        .filter(|&i| sim.stepper.contact_enabled(i))
-        .filter_map(|i| model.contact_geometry(sim.stepper.workspace(), i))
-        .map(|g| g.gap)
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Runs `scene` to its end (or `options.duration`), showing every step to `observer`,
-/// and returns the run summary.
-pub fn run(scene: &Scene, options: &RunOptions, observer: &mut dyn Observer) -> Result<Summary, RunError> {
-    let duration = options.duration.unwrap_or(scene.settings.duration);
-    let dt = scene.settings.dt;
-    let steps = (duration / dt).round() as u64;
+/// Runs `scene` for its duration, showing every step to `observer`, and returns the run
+/// summary. On an error the observer has seen every step before it.
+pub fn run(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn Observer,
+) -> Result<Summary, RunError> {
+    let duration = scene.settings.duration;
+    let steps = (duration / scene.settings.dt).round() as u64;
     let mut sim = Simulation::new(scene);
-    let mut summary = SummaryCollector::new(scene, duration);
+    let mut summary = SummaryCollector::new(scene);
     let started = Instant::now();
-    let tick = (steps / 500).max(1);
+    let tick = (steps / 1000).max(1);
     let mut revealed = false;
     for k in 0..steps {
         sim.step(&mut Tee(&mut summary, observer))?;
         if let Some(bar) = options.progress.as_ref().filter(|_| k % tick == 0) {
-            // Runs shorter than a second show no bar; stderr draws only on a terminal.
             if !revealed && started.elapsed().as_secs_f64() > 1.0 {
                 bar.set_draw_target(ProgressDrawTarget::stderr());
                 revealed = true;

@@ -3,7 +3,7 @@
 use crate::simulation::RunError;
 use crate::{Observer, Simulation, StepView};
 use hopsim_control::ControllerConfig;
-use hopsim_model::Shape;
+use hopsim_model::{Model, Shape, Workspace};
 use hopsim_record::EventKind;
 use hopsim_scene::Scene;
 use serde::Serialize;
@@ -37,7 +37,7 @@ pub struct LcpSummary {
 }
 
 /// The impulse-actuated cube of physics.md §5.3 [5.21] at the robot's mean speed:
-/// `ζ/x = g (m l² + I_S)(1 - ε) / (2 l u_x sin α)`, `l = 2(R - a)`, `α = π/4`.
+/// `ζ/x = g (m l² + I_S)(1 − ε) / (2 l u_x sin α)`, `l = 2(R − a)`, `α = π/4`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CubeBaseline {
     pub restitution: f64,
@@ -46,9 +46,16 @@ pub struct CubeBaseline {
 }
 
 impl CubeBaseline {
-    /// The baseline for a robot of `mass`, body inertia `inertia`, disc radius `radius`
-    /// and eccentricity `eccentricity` moving at `speed`.
-    pub fn new(mass: f64, inertia: f64, radius: f64, eccentricity: f64, gravity: f64, speed: f64, restitution: f64) -> Self {
+    /// The baseline for a robot of `mass` whose main body has inertia `inertia`, on a disc
+    /// of `radius` with eccentricity `eccentricity`, moving at `speed` (m/s).
+    pub fn new(
+        mass: f64,
+        inertia: f64,
+        (radius, eccentricity): (f64, f64),
+        gravity: f64,
+        speed: f64,
+        restitution: f64,
+    ) -> Self {
         let l = 2.0 * (radius - eccentricity);
         let alpha = std::f64::consts::FRAC_PI_4;
         Self {
@@ -57,14 +64,34 @@ impl CubeBaseline {
                 / (2.0 * l * speed * alpha.sin()),
         }
     }
+
+    /// The baseline for a Robbit scene: the robot's mass, the flywheel's parent's inertia
+    /// `I_S` and the radius `R` and eccentricity `a` of the circle it carries (physics.md §2);
+    /// `None` unless the scene runs the momentum-impulse controller on a disc.
+    pub fn for_scene(scene: &Scene, speed: f64, restitution: f64) -> Option<Self> {
+        let ControllerConfig::MomentumImpulse(c) = &scene.controller else {
+            return None;
+        };
+        let model = &scene.model;
+        let disc = model.bodies[c.flywheel].joint.as_ref()?.parent;
+        let geometry = model.shapes.iter().find_map(|s| match s.shape {
+            Shape::Circle { center, radius } if s.body == disc => Some((radius, center.norm())),
+            _ => None,
+        })?;
+        let (mass, inertia) = (model.total_mass(), model.bodies[disc].inertia);
+        Some(Self::new(mass, inertia, geometry, model.gravity.norm(), speed, restitution))
+    }
 }
 
-/// Robbit's extra figures (physics.md §5.3), over the summary window.
+/// Robbit's figures (physics.md §5.3), over the summary window.
 #[derive(Clone, Debug, Serialize)]
 pub struct RobbitSummary {
     pub brakes_per_s: f64,
+    /// `Σζ / distance` over the window.
     #[serde(rename = "impulse_per_distance_Ns_per_m")]
     pub impulse_per_distance: f64,
+    /// The cube at the same speed, for `ε = 0` and the scene's `summary.cube_restitution`;
+    /// empty when the main body is not a disc.
     pub cube_baseline: Vec<CubeBaseline>,
 }
 
@@ -75,11 +102,17 @@ pub struct Summary {
     pub duration_s: f64,
     pub dt_s: f64,
     pub steps: u64,
+    /// Forward displacement of the robot's centre of mass over the whole run.
     pub distance_m: f64,
+    /// Mean forward speed of the centre of mass over the last `speed_window_s`.
     pub mean_speed_mps: f64,
     pub speed_window_s: f64,
+    /// Flight phases (every enabled shape clear of the terrain by `HOP_CLEARANCE`).
     pub hops: u64,
+    /// `distance_m / hops` (null without hops).
+    pub distance_per_hop_m: f64,
     pub impulses: ImpulseSummary,
+    /// All actuator impulses over the whole distance.
     #[serde(rename = "impulse_per_distance_Ns_per_m")]
     pub impulse_per_distance: f64,
     pub energy: EnergySummary,
@@ -91,13 +124,11 @@ pub struct Summary {
     pub robbit: Option<RobbitSummary>,
 }
 
-/// Restitution of the second cube baseline line (the first is `ε = 0`).
-pub const CUBE_RESTITUTION: f64 = 0.5;
-
 /// Collects the summary while the run goes on.
 pub(crate) struct SummaryCollector {
     title: String,
     window_start: f64,
+    x_start: f64,
     x_window: Option<f64>,
     impulses: ImpulseSummary,
     window_impulse: f64,
@@ -107,11 +138,15 @@ pub(crate) struct SummaryCollector {
 }
 
 impl SummaryCollector {
-    pub(crate) fn new(scene: &Scene, duration: f64) -> Self {
+    pub(crate) fn new(scene: &Scene) -> Self {
+        let s = &scene.settings;
+        let x_start = com_x(&scene.model, &scene.initial);
+        let window_start = s.duration - s.speed_window;
         Self {
             title: scene.title.clone(),
-            window_start: duration * (1.0 - scene.settings.speed_window),
-            x_window: (scene.settings.speed_window >= 1.0).then(|| com_x_initial(scene)),
+            window_start,
+            x_start,
+            x_window: (window_start <= 0.0).then_some(x_start),
             impulses: ImpulseSummary::default(),
             window_impulse: 0.0,
             window_brakes: 0,
@@ -122,25 +157,21 @@ impl SummaryCollector {
 
     pub(crate) fn finish(self, sim: &Simulation<'_>, wall_time: f64, steps: u64) -> Summary {
         let scene = sim.scene();
-        let state = sim.state();
         let record = sim.stepper().record();
-        let duration = state.t - scene.initial.t;
-        let window = duration - self.window_start;
+        let duration = sim.state().t - scene.initial.t;
+        let window = duration - self.window_start.max(0.0);
         let x_end = scene.model.center_of_mass(sim.stepper().workspace()).x;
-        let x0 = com_x_initial(scene);
-        let distance = x_end - x0;
-        let window_distance = x_end - self.x_window.unwrap_or(x0);
+        let distance = x_end - self.x_start;
+        let window_distance = x_end - self.x_window.unwrap_or(x_end);
         let mean_speed = window_distance / window;
         let lcp = sim.stepper().lcp_stats();
         let e = record.energy;
         let robbit = match &scene.controller {
-            ControllerConfig::MomentumImpulse(c) => Some(robbit_summary(
-                scene,
-                c.flywheel,
-                mean_speed,
-                self.window_brakes as f64 / window,
-                self.window_impulse / window_distance,
-            )),
+            ControllerConfig::MomentumImpulse(_) => Some(RobbitSummary {
+                brakes_per_s: self.window_brakes as f64 / window,
+                impulse_per_distance: self.window_impulse / window_distance,
+                cube_baseline: cube_baselines(scene, mean_speed),
+            }),
             _ => None,
         };
         Summary {
@@ -152,6 +183,7 @@ impl SummaryCollector {
             mean_speed_mps: mean_speed,
             speed_window_s: window,
             hops: sim.hops(),
+            distance_per_hop_m: distance / sim.hops() as f64,
             impulse_per_distance: self.impulses.total_ns / distance,
             impulses: self.impulses,
             energy: EnergySummary {
@@ -176,33 +208,20 @@ impl SummaryCollector {
     }
 }
 
-fn com_x_initial(scene: &Scene) -> f64 {
-    let mut ws = hopsim_model::Workspace::new(&scene.model);
-    ws.update(&scene.model, &scene.initial.q, &scene.initial.u);
-    scene.model.center_of_mass(&ws).x
+/// The robot's centre-of-mass abscissa in `state`.
+fn com_x(model: &Model, state: &hopsim_step::State) -> f64 {
+    let mut ws = Workspace::new(model);
+    ws.update(model, &state.q, &state.u);
+    model.center_of_mass(&ws).x
 }
 
-fn robbit_summary(scene: &Scene, flywheel: usize, speed: f64, brakes_per_s: f64, per_distance: f64) -> RobbitSummary {
-    let model = &scene.model;
-    let disc = model.bodies[flywheel].joint.as_ref().map_or(0, |j| j.parent);
-    // The disc's radius and eccentricity from its circle shape (physics.md §2).
-    let (radius, eccentricity) = model
-        .shapes
+/// Cube baselines for `ε = 0` and `summary.cube_restitution` (empty when the main body
+/// is not a disc).
+fn cube_baselines(scene: &Scene, speed: f64) -> Vec<CubeBaseline> {
+    [0.0, scene.settings.cube_restitution]
         .iter()
-        .find_map(|s| match s.shape {
-            Shape::Circle { center, radius } if s.body == disc => Some((radius, center.norm())),
-            _ => None,
-        })
-        .unwrap_or((f64::NAN, f64::NAN));
-    let gravity = model.gravity.norm();
-    let baseline = |eps| {
-        CubeBaseline::new(model.total_mass(), model.bodies[disc].inertia, radius, eccentricity, gravity, speed, eps)
-    };
-    RobbitSummary {
-        brakes_per_s,
-        impulse_per_distance: per_distance,
-        cube_baseline: vec![baseline(0.0), baseline(CUBE_RESTITUTION)],
-    }
+        .filter_map(|&eps| CubeBaseline::for_scene(scene, speed, eps))
+        .collect()
 }
 
 impl Observer for SummaryCollector {
@@ -215,9 +234,7 @@ impl Observer for SummaryCollector {
         for ev in view.events {
             let magnitude = match ev.kind {
                 EventKind::Brake { impulse } => {
-                    if in_window {
-                        self.window_brakes += 1;
-                    }
+                    self.window_brakes += u64::from(in_window);
                     impulse
                 }
                 EventKind::AppliedImpulse { magnitude } => magnitude,
@@ -230,9 +247,8 @@ impl Observer for SummaryCollector {
             }
         }
         self.max_penetration = self.max_penetration.max(view.record.max_penetration);
-        self.max_balance_error = self
-            .max_balance_error
-            .max(view.record.energy.balance_error().abs());
+        let balance = view.record.energy.balance_error().abs();
+        self.max_balance_error = self.max_balance_error.max(balance);
         Ok(())
     }
 }
@@ -240,22 +256,59 @@ impl Observer for SummaryCollector {
 impl std::fmt::Display for Summary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let e = &self.energy;
-        writeln!(f, "{}: {:.3} s simulated in {} steps of {:e} s", self.scene, self.duration_s, self.steps, self.dt_s)?;
-        writeln!(f, "  distance          {:>12.4} m", self.distance_m)?;
-        writeln!(f, "  mean speed        {:>12.4} m/s (last {:.2} s)", self.mean_speed_mps, self.speed_window_s)?;
-        writeln!(f, "  hops              {:>12}", self.hops)?;
-        writeln!(f, "  actuator impulses {:>12} totalling {:.4} N s ({:.4} N s/m)", self.impulses.count, self.impulses.total_ns, self.impulse_per_distance)?;
+        let w = self.speed_window_s;
+        writeln!(
+            f,
+            "{}: {:.3} s simulated in {} steps of {:e} s",
+            self.scene, self.duration_s, self.steps, self.dt_s
+        )?;
+        writeln!(f, "  distance           {:>10.4} m", self.distance_m)?;
+        writeln!(f, "  mean speed         {:>10.4} m/s (last {w:.2} s)", self.mean_speed_mps)?;
+        writeln!(
+            f,
+            "  hops               {:>10} ({:.4} m per hop)",
+            self.hops, self.distance_per_hop_m
+        )?;
+        writeln!(
+            f,
+            "  actuator impulses  {:>10} totalling {:.4} N s ({:.4} N s/m)",
+            self.impulses.count, self.impulses.total_ns, self.impulse_per_distance
+        )?;
         if let Some(r) = &self.robbit {
-            writeln!(f, "  brakes            {:>12.3} per s (last {:.2} s)", r.brakes_per_s, self.speed_window_s)?;
-            writeln!(f, "  impulse/distance  {:>12.4} N s/m (last {:.2} s)", r.impulse_per_distance, self.speed_window_s)?;
+            writeln!(f, "  brakes             {:>10.3} per s (last {w:.2} s)", r.brakes_per_s)?;
+            writeln!(
+                f,
+                "  impulse/distance   {:>10.4} N s/m (last {w:.2} s)",
+                r.impulse_per_distance
+            )?;
             for c in &r.cube_baseline {
-                writeln!(f, "  cube, ε = {:<4}    {:>12.4} N s/m at the same speed", c.restitution, c.impulse_per_distance)?;
+                writeln!(
+                    f,
+                    "  cube, ε = {:<4}     {:>10.4} N s/m at the same speed",
+                    c.restitution, c.impulse_per_distance
+                )?;
             }
         }
-        writeln!(f, "  energy [J]        kinetic {:.4}, potential {:.4}, spring {:.4}", e.kinetic, e.potential, e.spring)?;
-        writeln!(f, "                    actuator work {:.4}, dissipated {:.4}, balance error {:.2e} (max {:.2e})", e.actuator_work, e.dissipated, e.balance_error, e.max_abs_balance_error)?;
-        writeln!(f, "  max penetration   {:>12.3e} m", self.max_penetration_m)?;
-        writeln!(f, "  LCP               {} solves, {} failures, at most {} pivots", self.lcp.solves, self.lcp.failures, self.lcp.max_pivots)?;
-        write!(f, "  wall time         {:>12.3} s ({:.0} steps/s)", self.wall_time_s, self.steps_per_s)
+        writeln!(
+            f,
+            "  energy             kinetic {:.4} J, potential {:.4} J, spring {:.4} J",
+            e.kinetic, e.potential, e.spring
+        )?;
+        writeln!(
+            f,
+            "                     actuator work {:.4} J, dissipated {:.4} J, balance error {:.2e} J (max {:.2e} J)",
+            e.actuator_work, e.dissipated, e.balance_error, e.max_abs_balance_error
+        )?;
+        writeln!(f, "  max penetration    {:>10.3e} m", self.max_penetration_m)?;
+        writeln!(
+            f,
+            "  LCP                {} solves, {} failures, at most {} pivots",
+            self.lcp.solves, self.lcp.failures, self.lcp.max_pivots
+        )?;
+        write!(
+            f,
+            "  wall time          {:>10.3} s ({:.0} steps/s)",
+            self.wall_time_s, self.steps_per_s
+        )
     }
 }

@@ -55,12 +55,23 @@ impl std::str::FromStr for GridAxis {
     }
 }
 
-/// One point of the grid and what its run gave.
+/// One run of a sweep: a label, the grid values (empty for a baseline) and the overrides
+/// that make it.
 #[derive(Clone, Debug)]
-pub struct SweepPoint {
+pub struct SweepJob {
+    /// `"grid"` for grid points, the baseline's name otherwise.
+    pub label: String,
     /// The grid values, in axis order.
     pub values: Vec<f64>,
-    /// The run summary, or the error that stopped it.
+    /// Overrides applied on top of the sweep's base overrides.
+    pub overrides: Vec<Override>,
+}
+
+/// A job and what its run gave.
+#[derive(Clone, Debug)]
+pub struct SweepPoint {
+    pub job: SweepJob,
+    /// The run summary, or the error that stopped the run (or rejected its scene).
     pub result: Result<Summary, String>,
 }
 
@@ -80,37 +91,51 @@ pub fn grid_points(axes: &[GridAxis]) -> Vec<Vec<f64>> {
     })
 }
 
-/// Runs the scene at `path` (with `base` overrides) at every grid point, in parallel.
-/// A run that fails is a point with its error, not a failed sweep.
+/// The jobs of a grid: one per point, labelled `"grid"`.
+pub fn grid_jobs(axes: &[GridAxis]) -> Vec<SweepJob> {
+    grid_points(axes)
+        .into_iter()
+        .map(|values| SweepJob {
+            label: "grid".into(),
+            overrides: axes
+                .iter()
+                .zip(&values)
+                .map(|(axis, v)| Override {
+                    key: axis.key.clone(),
+                    value: format!("{v:?}"),
+                })
+                .collect(),
+            values,
+        })
+        .collect()
+}
+
+/// Runs the scene `text` (read from `path`) with `base` overrides for every job, in
+/// parallel on all cores; results keep the order of `jobs`. A run that fails is a point
+/// with its error, not a failed sweep.
 pub fn sweep(
     path: &Path,
     text: &str,
     base: &[Override],
-    axes: &[GridAxis],
-    duration: Option<f64>,
+    jobs: &[SweepJob],
     progress: Option<&ProgressBar>,
 ) -> Vec<SweepPoint> {
-    grid_points(axes)
-        .into_par_iter()
-        .map(|values| {
+    jobs.par_iter()
+        .map(|job| {
             let mut overrides = base.to_vec();
-            overrides.extend(axes.iter().zip(&values).map(|(axis, v)| Override {
-                key: axis.key.clone(),
-                value: format!("{v:?}"),
-            }));
+            overrides.extend_from_slice(&job.overrides);
             let result = hopsim_scene::parse(text, path, &overrides)
                 .map_err(|e| e.to_string())
                 .and_then(|scene| {
-                    let options = RunOptions {
-                        duration,
-                        progress: None,
-                    };
-                    run(&scene, &options, &mut ()).map_err(|e| e.to_string())
+                    run(&scene, &RunOptions::default(), &mut ()).map_err(|e| e.to_string())
                 });
             if let Some(bar) = progress {
                 bar.inc(1);
             }
-            SweepPoint { values, result }
+            SweepPoint {
+                job: job.clone(),
+                result,
+            }
         })
         .collect()
 }

@@ -1,0 +1,110 @@
+//! `[controller]`: which controller runs and its parameters (physics.md §5.3, §5.4).
+
+use crate::bodies::{Names, ShapeSpec};
+use crate::error::SceneError;
+use crate::reader::{Num, Table};
+use hopsim_control::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig};
+use hopsim_model::Body;
+
+pub(crate) fn read_controller(
+    c: &Table<'_>,
+    bodies: &[Body],
+    body_names: &Names,
+    shapes: &[ShapeSpec],
+    shape_names: &Names,
+) -> Result<ControllerConfig, SceneError> {
+    let kind = c.choice("type", &["passive", "momentum_impulse", "pulse"], Some("passive"))?;
+    let jointed = |key: &'static str| -> Result<usize, SceneError> {
+        let b = body_names.resolve(c, key)?;
+        if bodies[b].joint.is_none() {
+            return Err(c.error_at_key(
+                key,
+                format!(
+                    "'{}' is the floating base; the motor acts between a body and its parent",
+                    body_names.get(b)
+                ),
+            ));
+        }
+        Ok(b)
+    };
+    let config = match kind {
+        "passive" => ControllerConfig::Passive,
+        "momentum_impulse" => ControllerConfig::MomentumImpulse(MomentumImpulseConfig {
+            flywheel: jointed("flywheel")?,
+            torque: c.f64("torque", Num::any("N m"))?,
+            impulse_limit: c.f64("impulse_limit", Num::positive("N m s"))?,
+            rearm_timeout: c.f64_or("rearm_timeout", 1.0, Num::positive("s"))?,
+        }),
+        _ => {
+            let joint_body = jointed("joint")?;
+            let torque = c.f64("torque", Num::any("N m"))?;
+            let pulse_duration = c.f64("pulse_duration", Num::positive("s"))?;
+            let period = match (c.opt_f64("period", Num::positive("s"))?, c.opt_f64("frequency", Num::positive("Hz"))?) {
+                (Some(p), None) => p,
+                (None, Some(f)) => 1.0 / f,
+                (Some(_), Some(_)) => {
+                    return Err(c.error_at_key("frequency", "give either period or frequency, not both"))
+                }
+                (None, None) => {
+                    return Err(c.error_at_key(
+                        "period",
+                        "missing; give the motor period in s (or frequency in Hz)",
+                    ))
+                }
+            };
+            if 2.0 * pulse_duration > period {
+                return Err(c.error_at_key(
+                    "pulse_duration",
+                    format!(
+                        "two pulses of {pulse_duration} s do not fit in the period of {period} s"
+                    ),
+                ));
+            }
+            let cane_shape = match c.opt_str("cane")? {
+                None => None,
+                Some(name) => {
+                    let s = shape_names.index(c, "cane", name)?;
+                    if !shapes[s].switchable {
+                        return Err(c.error_at_key(
+                            "cane",
+                            format!("the shape '{name}' must have switchable = true to be a cane"),
+                        ));
+                    }
+                    Some(s)
+                }
+            };
+            let fraction = Num::range(0.0, 1.0, "fraction of the period");
+            let delay = c.opt_f64("cane_delay", fraction)?;
+            let duration = c.opt_f64("cane_duration", fraction)?;
+            let timed = |key, v: Option<f64>| {
+                v.ok_or_else(|| {
+                    c.error_at_key(key, "missing; required when cane_mode = \"timed\"")
+                })
+            };
+            let cane = match c.choice("cane_mode", &["retracted", "extended", "timed"], Some("retracted"))? {
+                "retracted" => CaneMode::Retracted,
+                "extended" => CaneMode::Extended,
+                _ => CaneMode::Timed {
+                    delay: timed("cane_delay", delay)?,
+                    duration: timed("cane_duration", duration)?,
+                },
+            };
+            if cane != CaneMode::Retracted && cane_shape.is_none() {
+                return Err(c.error_at_key(
+                    "cane_mode",
+                    "a cane mode other than \"retracted\" needs cane = \"<shape name>\"",
+                ));
+            }
+            ControllerConfig::Pulse(PulseConfig {
+                joint_body,
+                torque,
+                pulse_duration,
+                period,
+                cane_shape,
+                cane,
+            })
+        }
+    };
+    c.finish()?;
+    Ok(config)
+}

@@ -1,0 +1,165 @@
+//! `--set path.to.key=value`: overrides applied to the parsed tree before validation, so an
+//! overridden value is type-checked exactly like one written in the file (and an error
+//! names the `--set` argument).
+//!
+//! Path segments are table keys; in an array, a segment is an index (`initial.q.1`) or the
+//! `name` of a table in an array of tables (`bodies.disc.mass`).
+
+use crate::error::SceneError;
+use crate::tree::{parse_override_value, Entry, Kind, Node, Origin};
+
+/// One `--set key=value` argument.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Override {
+    /// Dotted key path, e.g. `controller.torque`.
+    pub key: String,
+    /// The value as typed (TOML syntax; bare words are strings).
+    pub value: String,
+}
+
+impl Override {
+    /// The argument as typed, `key=value`.
+    pub fn text(&self) -> String {
+        format!("{}={}", self.key, self.value)
+    }
+}
+
+impl std::str::FromStr for Override {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (key, value) = s
+            .split_once('=')
+            .ok_or_else(|| format!("'{s}': expected KEY=VALUE, e.g. controller.torque=0.2"))?;
+        let key = key.trim();
+        if key.is_empty() || key.split('.').any(|seg| seg.trim().is_empty()) {
+            return Err(format!("'{s}': the key must be a dotted path such as controller.torque"));
+        }
+        Ok(Self {
+            key: key.to_string(),
+            value: value.trim().to_string(),
+        })
+    }
+}
+
+/// Applies `ov` to the document `root`.
+pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
+    let text = ov.text();
+    let fail = |message: String| SceneError::Override {
+        text: text.clone(),
+        message,
+    };
+    let segments: Vec<&str> = ov.key.split('.').map(str::trim).collect();
+    let value = parse_override_value(&ov.value, &text);
+    let origin = Origin::Override(text.clone());
+    let mut node = root;
+    let mut walked = String::new();
+    for (i, seg) in segments.iter().enumerate() {
+        let last = i + 1 == segments.len();
+        let here = if walked.is_empty() {
+            "the scene".to_string()
+        } else {
+            format!("'{walked}'")
+        };
+        node = match &mut node.kind {
+            Kind::Table(entries) => {
+                let pos = match entries.iter().position(|e| e.key == *seg) {
+                    Some(pos) => pos,
+                    None => {
+                        let kind = if last {
+                            value.kind.clone()
+                        } else {
+                            Kind::Table(Vec::new())
+                        };
+                        entries.push(Entry {
+                            key: seg.to_string(),
+                            key_origin: origin.clone(),
+                            node: Node {
+                                kind,
+                                origin: origin.clone(),
+                            },
+                        });
+                        entries.len() - 1
+                    }
+                };
+                let entry = &mut entries[pos];
+                if last {
+                    entry.key_origin = origin.clone();
+                    entry.node = value.clone();
+                }
+                &mut entry.node
+            }
+            Kind::Array(items) => {
+                let pos = seg.parse::<usize>().ok().or_else(|| {
+                    items.iter().position(|item| {
+                        item.entries()
+                            .iter()
+                            .any(|e| e.key == "name" && matches!(&e.node.kind, Kind::Str(n) if n == seg))
+                    })
+                });
+                let len = items.len();
+                let Some(item) = pos.and_then(|p| items.get_mut(p)) else {
+                    return Err(fail(format!(
+                        "{here} is an array of {len}; '{seg}' is neither an index below {len} \
+                         nor the name of one of its tables"
+                    )));
+                };
+                if last {
+                    *item = value.clone();
+                }
+                item
+            }
+            other => {
+                return Err(fail(format!(
+                    "{here} is {}, not a table: cannot set '{seg}' inside it",
+                    other.describe()
+                )))
+            }
+        };
+        if !walked.is_empty() {
+            walked.push('.');
+        }
+        walked.push_str(seg);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn doc(text: &str) -> Node {
+        Node::parse_document(text).unwrap()
+    }
+
+    fn get<'a>(node: &'a Node, key: &str) -> &'a Node {
+        &node.entries().iter().find(|e| e.key == key).unwrap().node
+    }
+
+    #[test]
+    fn overrides_replace_insert_and_index() {
+        let mut root = doc("[c]\nt = 0.1\n[[bodies]]\nname = \"disc\"\nmass = 1.0\n[i]\nq = [0.0, 0.1]\n");
+        for text in ["c.t=0.2", "c.mode=timed", "bodies.disc.mass=2", "i.q.1=0.5", "new.x=true"] {
+            apply(&mut root, &text.parse().unwrap()).unwrap();
+        }
+        assert!(matches!(get(get(&root, "c"), "t").kind, Kind::Float(v) if v == 0.2));
+        assert!(matches!(&get(get(&root, "c"), "mode").kind, Kind::Str(s) if s == "timed"));
+        let Kind::Array(bodies) = &get(&root, "bodies").kind else { panic!() };
+        assert!(matches!(get(&bodies[0], "mass").kind, Kind::Int(2)));
+        let Kind::Array(q) = &get(get(&root, "i"), "q").kind else { panic!() };
+        assert!(matches!(q[1].kind, Kind::Float(v) if v == 0.5));
+        assert_eq!(q[1].origin, Origin::Override("i.q.1=0.5".into()));
+        assert!(matches!(get(get(&root, "new"), "x").kind, Kind::Bool(true)));
+    }
+
+    #[test]
+    fn bad_paths_are_errors_naming_the_argument() {
+        let mut root = doc("[c]\nt = 0.1\nq = [1.0]\n");
+        let e = apply(&mut root, &"c.t.x=1".parse().unwrap()).unwrap_err().to_string();
+        assert!(e.starts_with("--set c.t.x=1:") && e.contains("'c.t' is the number 0.1"), "{e}");
+        let e = apply(&mut root, &"c.q.4=1".parse().unwrap()).unwrap_err().to_string();
+        assert!(e.contains("array of 1"), "{e}");
+        assert!("novalue".parse::<Override>().is_err());
+        assert!("a..b=1".parse::<Override>().is_err());
+    }
+}

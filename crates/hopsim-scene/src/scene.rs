@@ -1,0 +1,200 @@
+//! The validated scene and how it is built from the file (`docs/scene-format.md`).
+
+use crate::bodies::{read_bodies, read_shapes, read_springs, Names, ShapeSpec};
+use crate::controller::read_controller;
+use crate::environment::read_environment;
+use crate::error::{SceneError, Source};
+use crate::overrides::{apply, Override};
+use crate::reader::{Num, Table};
+use crate::settings::{read_meta, read_settings, Meta, Settings};
+use crate::tree::Node;
+use hopsim_control::ControllerConfig;
+use hopsim_model::{Model, Vec2, Workspace};
+use hopsim_step::{State, StepSettings};
+use nalgebra::DVector;
+use std::path::{Path, PathBuf};
+
+/// Gaps below `-PENETRATION_TOL` at the initial state are rejected, m.
+const PENETRATION_TOL: f64 = 1e-9;
+
+/// A scene ready to simulate: model, initial state, controller and settings.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene file.
+    pub path: PathBuf,
+    /// The file's text as read (overrides not applied), stored in recordings.
+    pub text: String,
+    /// The overrides applied on top of the file.
+    pub overrides: Vec<Override>,
+    /// `[meta]`.
+    pub meta: Meta,
+    /// Title for summaries and viewers (`meta.title`).
+    pub title: String,
+    /// `[simulation]`.
+    pub settings: Settings,
+    /// The multibody model.
+    pub model: Model,
+    /// Initial state (time zero).
+    pub initial: State,
+    /// The controller's settings.
+    pub controller: ControllerConfig,
+    /// Shapes the controller switches (canes); they start switched off.
+    pub switchable: Vec<usize>,
+    /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
+    pub coordinates: Vec<String>,
+}
+
+impl Scene {
+    /// The stepper's settings for this scene.
+    pub fn step_settings(&self) -> StepSettings {
+        StepSettings {
+            dt: self.settings.dt,
+            strict: self.settings.strict,
+            max_speed: self.settings.max_speed,
+            ..StepSettings::default()
+        }
+    }
+}
+
+/// Reads and validates the scene file at `path` with `overrides` applied.
+pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse(&text, path, overrides)
+}
+
+/// Validates scene `text` (read from `path`, which names it in errors) with `overrides`.
+pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    let src = Source { path, text };
+    let mut root = Node::parse_document(text).map_err(|(message, span)| SceneError::Syntax {
+        location: src.locate_offset(span.map_or(0, |s| s.start)),
+        message,
+    })?;
+    for ov in overrides {
+        apply(&mut root, ov)?;
+    }
+    let top = Table::root(src, &root);
+    top.allow_only(&[
+        "meta",
+        "simulation",
+        "summary",
+        "environment",
+        "bodies",
+        "shapes",
+        "springs",
+        "controller",
+        "initial",
+    ])?;
+    let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+    let meta = read_meta(top.opt_table("meta")?, &stem)?;
+    let sim = top.table_or_empty("simulation")?;
+    let summary = top.table_or_empty("summary")?;
+    let settings = read_settings(&sim, &summary)?;
+    sim.finish()?;
+    summary.finish()?;
+    let env = top.table_or_empty("environment")?;
+    let (terrain, material) = read_environment(&env)?;
+    env.finish()?;
+
+    let mut body_names = Names::new(("body", "bodies"));
+    let (bodies, coordinates) = read_bodies(&top, &top.tables("bodies")?, &mut body_names)?;
+    let mut shape_names = Names::new(("shape", "shapes"));
+    let shapes = read_shapes(&top.tables("shapes")?, &body_names, &mut shape_names, material)?;
+    let springs = read_springs(&top.tables("springs")?, &body_names)?;
+    let control = top.table_or_empty("controller")?;
+    let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
+
+    let instances = shapes.iter().map(|s| s.instance.clone()).collect();
+    let gravity = Vec2::new(0.0, -settings.gravity);
+    let mut model = Model::new(bodies, instances, terrain, springs, gravity, material)
+        .map_err(|e| top.error_at_key("bodies", e.to_string()))?;
+    for c in &mut model.contacts {
+        c.material = shapes[c.shape].material;
+    }
+    let switchable: Vec<usize> = (0..shapes.len()).filter(|&s| shapes[s].switchable).collect();
+
+    let init = top.table_or_empty("initial")?;
+    let initial = read_initial(&init, &model, &shapes, &coordinates)?;
+    init.finish()?;
+    top.finish()?;
+    Ok(Scene {
+        path: path.to_path_buf(),
+        text: text.to_string(),
+        overrides: overrides.to_vec(),
+        title: meta.title.clone(),
+        meta,
+        settings,
+        model,
+        initial,
+        controller,
+        switchable,
+        coordinates,
+    })
+}
+
+/// `[initial]`: `q`, `u` (default zero) and `rest_on_ground`; rejects a start inside the
+/// terrain with the penetration depth.
+fn read_initial(
+    init: &Table<'_>,
+    model: &Model,
+    shapes: &[ShapeSpec],
+    coordinates: &[String],
+) -> Result<State, SceneError> {
+    let n = model.dof();
+    let names = coordinates.join(", ");
+    let mut q = init
+        .opt_f64_list("q", Some(n), Num::any("m or rad"))?
+        .ok_or_else(|| init.error_at_key("q", format!("missing; expected {n} values ({names})")))
+        .map(DVector::from_vec)?;
+    let u = init
+        .opt_f64_list("u", Some(n), Num::any("m/s or rad/s"))?
+        .map_or_else(|| DVector::zeros(n), DVector::from_vec);
+    let rest = init.bool_or("rest_on_ground", false)?;
+    let mut ws = Workspace::new(model);
+    if rest {
+        // Lower (or raise) the robot along y until its lowest active shape touches.
+        for _ in 0..8 {
+            let Some((gap, normal_y, _)) = lowest_contact(model, shapes, &mut ws, &q, &u) else {
+                return Err(init.error_at_key(
+                    "rest_on_ground",
+                    "no active shape can touch the terrain below the robot",
+                ));
+            };
+            if gap.abs() <= PENETRATION_TOL * 1e-3 || normal_y <= 1e-9 {
+                break;
+            }
+            q[1] -= gap / normal_y;
+        }
+    }
+    if let Some((gap, _, contact)) = lowest_contact(model, shapes, &mut ws, &q, &u) {
+        if gap < -PENETRATION_TOL {
+            let shape = &model.shapes[model.contacts[contact].shape].name;
+            return Err(init.error_at_key(
+                "q",
+                format!(
+                    "the shape '{shape}' starts {:.6e} m inside the terrain (contact '{}'); \
+                     raise y (q[1]) by at least that much or set rest_on_ground = true",
+                    -gap, model.contacts[contact].name
+                ),
+            ));
+        }
+    }
+    Ok(State { t: 0.0, q, u })
+}
+
+/// The smallest gap over the contacts of non-switchable shapes at `q`: `(gap, n_y, contact)`.
+fn lowest_contact(
+    model: &Model,
+    shapes: &[ShapeSpec],
+    ws: &mut Workspace,
+    q: &DVector<f64>,
+    u: &DVector<f64>,
+) -> Option<(f64, f64, usize)> {
+    ws.update(model, q, u);
+    (0..model.contacts.len())
+        .filter(|&i| !shapes[model.contacts[i].shape].switchable)
+        .filter_map(|i| model.contact_geometry(ws, i).map(|g| (g.gap, g.normal.y, i)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}

@@ -1,0 +1,84 @@
+//! `[meta]` and `[simulation]`.
+
+use crate::error::SceneError;
+use crate::reader::{Num, Table};
+
+/// The free `[meta]` table: title, source of the parameters, notes, and any other keys.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Meta {
+    /// Title shown in summaries and viewers (default: the file name without extension).
+    pub title: String,
+    /// Where the parameters come from.
+    pub source: Option<String>,
+    /// Free notes (rationale of parameter choices, …).
+    pub notes: Option<String>,
+}
+
+/// `[simulation]`: how the scene is integrated and recorded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Simulated time, s.
+    pub duration: f64,
+    /// Step size `Δt`, s (physics.md §4).
+    pub dt: f64,
+    /// Gravitational acceleration along `-y`, m/s².
+    pub gravity: f64,
+    /// Frames recorded per second of simulated time, Hz (events are always recorded).
+    pub record_rate: f64,
+    /// `[summary] speed_window`: the mean speed (and Robbit's brakes per second and impulse
+    /// per distance) are taken over the last `speed_window` seconds (at most the whole
+    /// run; default: its second half), s.
+    pub speed_window: f64,
+    /// `[summary] cube_restitution`: the restitution `ε` of the second cube baseline of
+    /// physics.md §5.3 (the first is `ε = 0`).
+    pub cube_restitution: f64,
+    /// Stop on the first contact LCP without a certified solution.
+    pub strict: bool,
+    /// A generalised velocity above this stops the run as a runaway state (m/s or rad/s).
+    pub max_speed: f64,
+}
+
+pub(crate) fn read_meta(meta: Option<Table<'_>>, default_title: &str) -> Result<Meta, SceneError> {
+    let Some(meta) = meta else {
+        return Ok(Meta {
+            title: default_title.to_string(),
+            ..Meta::default()
+        });
+    };
+    let text = |key: &'static str| -> Result<Option<String>, SceneError> {
+        Ok(meta.opt_str(key)?.map(str::to_string))
+    };
+    let out = Meta {
+        title: text("title")?.unwrap_or_else(|| default_title.to_string()),
+        source: text("source")?,
+        notes: text("notes")?,
+    };
+    // [meta] is free-form: other keys stay in the file unchecked (no `finish`).
+    Ok(out)
+}
+
+/// Reads `[simulation]` and `[summary]`.
+pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Settings, SceneError> {
+    let duration = sim.f64("duration", Num::positive("s"))?;
+    let dt = sim.f64("dt", Num::positive("s"))?;
+    if dt >= duration {
+        return Err(sim.error_at_key(
+            "dt",
+            format!("the step size {dt} s must be smaller than the duration {duration} s"),
+        ));
+    }
+    // A window longer than the run (e.g. after `--duration 5`) is the whole run.
+    let speed_window = summary
+        .f64_or("speed_window", duration / 2.0, Num::positive("s"))?
+        .min(duration);
+    Ok(Settings {
+        duration,
+        dt,
+        gravity: sim.f64_or("gravity", 9.81, Num::non_negative("m/s²"))?,
+        record_rate: sim.f64_or("record_rate", 1000.0, Num::positive("Hz"))?,
+        speed_window,
+        cube_restitution: summary.f64_or("cube_restitution", 0.5, Num::range(0.0, 1.0, ""))?,
+        strict: sim.bool_or("strict", false)?,
+        max_speed: sim.f64_or("max_speed", 1e4, Num::positive("m/s or rad/s"))?,
+    })
+}
