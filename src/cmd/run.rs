@@ -81,7 +81,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     }
     let mut observer = RecordingObserver::new(recorders, &scene);
     let options = RunOptions {
-        progress: (!args.quiet).then(|| super::progress::bar(scene.settings.duration, "simulating")),
+        progress: (!args.quiet)
+            .then(|| super::progress::bar(scene.settings.duration, "simulating")),
     };
     let summary = match hopsim_sim::run(&scene, &options, &mut observer) {
         Ok(summary) => summary,

@@ -77,9 +77,13 @@ const METRICS: &[(&str, fn(&Summary) -> f64)] = &[
     ("impulses_count", |s| s.impulses.count as f64),
     ("impulses_total_Ns", |s| s.impulses.total_ns),
     ("impulse_per_distance_Ns_per_m", |s| s.impulse_per_distance),
-    ("brakes_per_s", |s| s.robbit.as_ref().map_or(f64::NAN, |r| r.brakes_per_s)),
+    ("brakes_per_s", |s| {
+        s.robbit.as_ref().map_or(f64::NAN, |r| r.brakes_per_s)
+    }),
     ("window_impulse_per_distance_Ns_per_m", |s| {
-        s.robbit.as_ref().map_or(f64::NAN, |r| r.impulse_per_distance)
+        s.robbit
+            .as_ref()
+            .map_or(f64::NAN, |r| r.impulse_per_distance)
     }),
     ("max_penetration_m", |s| s.max_penetration_m),
     ("energy_balance_error_J", |s| s.energy.max_abs_balance_error),
@@ -99,7 +103,10 @@ fn metric_name(s: &str) -> Result<String, String> {
 }
 
 fn metric(name: &str, s: &Summary) -> f64 {
-    METRICS.iter().find(|(n, _)| *n == name).map_or(f64::NAN, |(_, f)| f(s))
+    METRICS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(f64::NAN, |(_, f)| f(s))
 }
 
 pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
@@ -128,7 +135,10 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let points = hopsim_sim::sweep(&scene.path, &scene.text, &base, &jobs, Some(&bar));
     bar.finish_and_clear();
 
-    let stem = scene.path.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+    let stem = scene
+        .path
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy());
     let out = args
         .out
         .clone()
@@ -194,21 +204,28 @@ fn speed_against_impulse(scene: &Scene, points: &[SweepPoint]) -> LinePlot {
         "mean speed [m/s]",
     )
     .with_series(Series::points("simulated runs", runs.clone()));
-    let (lo, hi) = runs
-        .iter()
-        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+    let (lo, hi) = runs.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| {
+        (lo.min(p.1), hi.max(p.1))
+    });
     if lo.is_finite() {
         for eps in [0.0, scene.settings.cube_restitution] {
             let curve: Vec<(f64, f64)> = (0..=60)
                 .map(|i| 0.5 * lo + (1.5 * hi - 0.5 * lo) * i as f64 / 60.0)
-                .filter_map(|u| Some((CubeBaseline::for_scene(scene, u, eps)?.impulse_per_distance, u)))
+                .filter_map(|u| {
+                    Some((
+                        CubeBaseline::for_scene(scene, u, eps)?.impulse_per_distance,
+                        u,
+                    ))
+                })
                 .collect();
             if !curve.is_empty() {
                 plot = plot.with_series(Series::line(format!("cube, ε = {eps}"), curve));
             }
         }
         let max_x = runs.iter().map(|p| p.0).fold(0.0, f64::max);
-        plot = plot.with_x_range(0.0, 1.3 * max_x).with_y_range(0.0, 1.3 * hi);
+        plot = plot
+            .with_x_range(0.0, 1.3 * max_x)
+            .with_y_range(0.0, 1.3 * hi);
     }
     plot
 }
@@ -239,9 +256,17 @@ fn quantity_against_axis(axes: &[GridAxis], y: &str, points: &[SweepPoint]) -> L
     let (x0, x1) = x_axis
         .values
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
     for p in points.iter().filter(|p| p.job.values.is_empty()) {
-        if let Some(v) = p.result.as_ref().ok().map(|s| metric(y, s)).filter(|v| v.is_finite()) {
+        if let Some(v) = p
+            .result
+            .as_ref()
+            .ok()
+            .map(|s| metric(y, s))
+            .filter(|v| v.is_finite())
+        {
             plot = plot.with_series(
                 Series::line(p.job.label.clone(), vec![(x0, v), (x1, v)]).color(BLACK),
             );

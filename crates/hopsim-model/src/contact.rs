@@ -1,7 +1,9 @@
 //! Contact kinematics: the gap `g_N` and the contact frame of every potential contact
 //! between a body's shape and a terrain feature (physics.md §1, §2).
 
-use crate::{perp, rotate, Shape, TerrainFeature, Vec2};
+use crate::ellipse::closest_point_on_ellipse;
+use crate::kinematics::Rotation;
+use crate::{Shape, TerrainFeature, Vec2};
 
 /// Friction and restitution of one contact (physics.md §4).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,8 +31,10 @@ impl Default for ContactMaterial {
 pub enum ShapeFeature {
     /// The smooth boundary of a circle, arc or ellipse.
     Smooth,
-    /// The shape's `k`-th vertex (see [`Shape::vertices`]).
+    /// The shape's `k`-th vertex (see [`Shape::vertex`]).
     Vertex(usize),
+    /// A convex polygon's edges, as one boundary, against a terrain corner.
+    Edges,
 }
 
 /// A potential contact: one feature of one shape against one terrain feature.
@@ -66,36 +70,142 @@ impl ContactGeometry {
     }
 }
 
-/// Gap and contact frame of `feature` of `shape` (on a body at `position`, `angle`)
-/// against `terrain`, or `None` when the pair cannot touch there (the closest point lies
-/// beyond the end of a line, outside a corner's normal cone, or off an arc).
-pub fn contact_geometry(
+/// Gap and contact frame of `feature` of `shape` (on a body at `position`, rotated by
+/// `rotation`) against `terrain`, or `None` when the pair cannot touch there (the closest
+/// point lies beyond the end of a line, outside a corner's normal cone, or off an arc).
+///
+/// Closed forms where they exist: circles, arcs, ellipses and vertices against lines
+/// (support points), circles and arcs against corners, a corner against a convex
+/// polygon's edges (signed point-polygon distance). A corner against an ellipse uses the
+/// closest point on the ellipse by Eberly's monotone root, exact to round-off (see
+/// `ellipse.rs`). A point behind a line is that line's only if [`owned_by_line`].
+pub(crate) fn contact_geometry(
     shape: &Shape,
     feature: ShapeFeature,
     position: Vec2,
-    angle: f64,
+    rotation: Rotation,
+    features: &[TerrainFeature],
+    index: usize,
+) -> Option<ContactGeometry> {
+    let terrain = &features[index];
+    let geometry = feature_geometry(shape, feature, position, rotation, terrain)?;
+    if geometry.gap < 0.0 && !owned_by_line(&geometry, terrain, features) {
+        return None;
+    }
+    Some(geometry)
+}
+
+/// Whether a point behind a line feature (`g_N < 0`) is that line's contact. The solid
+/// behind a convex corner is split by the corner's bisector: a point deeper behind this
+/// line than behind the corner's other face belongs to that face. Without this test a
+/// vertex resting on a step's top would also touch the step's face, whose line extends
+/// behind it (and hold the vertex from sliding across). Corners and points in front of
+/// the line are always kept.
+fn owned_by_line(
+    geometry: &ContactGeometry,
+    terrain: &TerrainFeature,
+    features: &[TerrainFeature],
+) -> bool {
+    let TerrainFeature::Line {
+        origin,
+        normal,
+        from,
+        to,
+    } = terrain
+    else {
+        return true;
+    };
+    let tangent = TerrainFeature::tangent(*normal);
+    for end in [*from, *to].into_iter().filter(|s| s.is_finite()) {
+        let end = origin + end * tangent;
+        for corner in features {
+            let TerrainFeature::Corner {
+                point,
+                normal_first,
+                normal_last,
+            } = corner
+            else {
+                continue;
+            };
+            if (point - end).norm() > 1e-9 * (1.0 + end.norm()) {
+                continue;
+            }
+            // The corner's other face: the normal of the cone further from this line's.
+            let other = if normal_first.dot(normal) < normal_last.dot(normal) {
+                normal_first
+            } else {
+                normal_last
+            };
+            if geometry.gap < (geometry.point - point).dot(other) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The geometry of `feature` against one terrain feature, without the ownership test.
+fn feature_geometry(
+    shape: &Shape,
+    feature: ShapeFeature,
+    position: Vec2,
+    rotation: Rotation,
     terrain: &TerrainFeature,
 ) -> Option<ContactGeometry> {
-    let to_world = |p: Vec2| position + rotate(angle, p);
+    let to_world = |p: Vec2| position + rotation.apply(p);
     match (feature, terrain) {
         (ShapeFeature::Vertex(k), TerrainFeature::Line { .. }) => {
             let vertex = shape.vertex(k)?;
             point_against_line(to_world(vertex), terrain)
         }
         (ShapeFeature::Vertex(_), TerrainFeature::Corner { .. }) => None,
-        (ShapeFeature::Smooth, _) => smooth_geometry(shape, position, angle, terrain),
+        (ShapeFeature::Smooth, _) => smooth_geometry(shape, position, rotation, terrain),
+        (
+            ShapeFeature::Edges,
+            TerrainFeature::Corner {
+                point,
+                normal_first,
+                normal_last,
+            },
+        ) => {
+            let Shape::Polygon { vertices } = shape else {
+                return None;
+            };
+            let local = rotation.inverse(point - position);
+            let (gap, closest, outward) = polygon_signed_distance(vertices, local)?;
+            corner_contact(
+                gap,
+                to_world(closest),
+                -rotation.apply(outward),
+                *normal_first,
+                *normal_last,
+            )
+        }
+        (ShapeFeature::Edges, TerrainFeature::Line { .. }) => None,
     }
+}
+
+/// A corner contact with the body's `normal` (terrain towards body) if that normal lies in
+/// the corner's normal cone; outside it the corner's lines carry the contact.
+fn corner_contact(
+    gap: f64,
+    point: Vec2,
+    normal: Vec2,
+    first: Vec2,
+    last: Vec2,
+) -> Option<ContactGeometry> {
+    in_cone(normal, first, last).then_some(ContactGeometry { gap, point, normal })
 }
 
 fn smooth_geometry(
     shape: &Shape,
     position: Vec2,
-    angle: f64,
+    rotation: Rotation,
     terrain: &TerrainFeature,
 ) -> Option<ContactGeometry> {
     match (shape, terrain) {
         (Shape::Circle { center, radius } | Shape::Arc { center, radius, .. }, _) => {
-            let c = position + rotate(angle, *center);
+            let c = position + rotation.apply(*center);
             let normal = match terrain {
                 TerrainFeature::Line { normal, .. } => *normal,
                 TerrainFeature::Corner {
@@ -108,7 +218,7 @@ fn smooth_geometry(
                     in_cone(n, *normal_first, *normal_last).then_some(n)?
                 }
             };
-            if !shape.covers_direction(rotate(-angle, -normal)) {
+            if !shape.covers_direction(rotation.inverse(-normal)) {
                 return None;
             }
             let point = c - *radius * normal;
@@ -130,13 +240,77 @@ fn smooth_geometry(
             TerrainFeature::Line { normal, .. },
         ) => {
             // Support point of the ellipse in the direction -n (body frame).
-            let d = rotate(-angle, -normal);
+            let d = rotation.inverse(-normal);
             let scaled = Vec2::new(semi_x * semi_x * d.x, semi_y * semi_y * d.y);
             let support = scaled / (d.x * scaled.x + d.y * scaled.y).sqrt();
-            point_against_line(position + rotate(angle, center + support), terrain)
+            point_against_line(position + rotation.apply(center + support), terrain)
+        }
+        (
+            Shape::Ellipse {
+                center,
+                semi_x,
+                semi_y,
+            },
+            TerrainFeature::Corner {
+                point,
+                normal_first,
+                normal_last,
+            },
+        ) => {
+            let local = rotation.inverse(point - position) - center;
+            let p = closest_point_on_ellipse(*semi_x, *semi_y, local);
+            corner_contact(
+                p.signed_distance,
+                position + rotation.apply(center + p.point),
+                -rotation.apply(p.normal),
+                *normal_first,
+                *normal_last,
+            )
         }
         _ => None,
     }
+}
+
+/// Signed distance of point `c` to the convex counter-clockwise polygon `vertices` (`< 0`
+/// inside), the closest boundary point and the unit outward normal there. `None` for a
+/// degenerate polygon.
+pub(crate) fn polygon_signed_distance(vertices: &[Vec2], c: Vec2) -> Option<(f64, Vec2, Vec2)> {
+    let count = vertices.len();
+    // Deepest-inside edge (largest signed distance to its line) and nearest boundary point.
+    let mut best_edge: Option<(f64, Vec2, Vec2)> = None;
+    let mut nearest: Option<(f64, Vec2)> = None;
+    for (i, &v0) in vertices.iter().enumerate() {
+        let v1 = vertices[(i + 1) % count];
+        let e = v1 - v0;
+        let length_sq = e.norm_squared();
+        if length_sq == 0.0 {
+            continue;
+        }
+        let outward = Vec2::new(e.y, -e.x) / length_sq.sqrt();
+        let rel = c - v0;
+        let s = outward.dot(&rel);
+        if best_edge.is_none_or(|(best, _, _)| s > best) {
+            best_edge = Some((s, c - s * outward, outward));
+        }
+        let t = (rel.dot(&e) / length_sq).clamp(0.0, 1.0);
+        let p = v0 + t * e;
+        let d_sq = (c - p).norm_squared();
+        if nearest.is_none_or(|(best, _)| d_sq < best) {
+            nearest = Some((d_sq, p));
+        }
+    }
+    let (s, foot, outward) = best_edge?;
+    if s <= 0.0 {
+        // Inside (or on the boundary): the nearest edge line's foot lies on that edge.
+        return Some((s, foot, outward));
+    }
+    let (d_sq, p) = nearest?;
+    let d = d_sq.sqrt();
+    // Outside: the normal points from the boundary to c; at d → 0 take the edge's normal.
+    let normal = (c - p)
+        .try_normalize(1e-12 * (1.0 + p.norm()))
+        .unwrap_or(outward);
+    Some((d, p, normal))
 }
 
 /// A world point against a line feature; `None` beyond the line's ends.
@@ -163,10 +337,4 @@ fn point_against_line(point: Vec2, terrain: &TerrainFeature) -> Option<ContactGe
 fn in_cone(n: Vec2, first: Vec2, last: Vec2) -> bool {
     let cross = |a: Vec2, b: Vec2| a.x * b.y - a.y * b.x;
     cross(first, n) >= 0.0 && cross(n, last) >= 0.0
-}
-
-/// The velocity direction of the body's material point at world offset `r` from the
-/// centre of mass, for a unit rotation rate: `ω × r`.
-pub(crate) fn lever(r: Vec2) -> Vec2 {
-    perp(r)
 }

@@ -1,11 +1,48 @@
 //! Forward kinematics of the body tree: poses, Jacobians and velocity-product
-//! accelerations of every body, evaluated into reused buffers.
+//! accelerations of every body, evaluated into reused buffers (physics.md §1).
+//!
+//! One pass over the bodies (parents before children) computes everything; each body's
+//! rotation `(sin θ, cos θ)` is evaluated once and only for bodies whose geometry needs it.
 
-use crate::contact::lever;
-use crate::{rotate, JointCoordinate, Model, Vec2};
-use nalgebra::{DMatrix, DVector};
+use crate::{perp, JointCoordinate, Model, Vec2};
+use nalgebra::{DVector, DVectorViewMut};
+
+/// A planar rotation by `θ`, kept as `(sin θ, cos θ)` so one `sin_cos` serves every use.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Rotation {
+    pub sin: f64,
+    pub cos: f64,
+}
+
+impl Rotation {
+    #[inline]
+    pub fn new(theta: f64) -> Self {
+        let (sin, cos) = theta.sin_cos();
+        Self { sin, cos }
+    }
+
+    /// `R(θ) v`.
+    #[inline]
+    pub fn apply(self, v: Vec2) -> Vec2 {
+        Vec2::new(
+            self.cos * v.x - self.sin * v.y,
+            self.sin * v.x + self.cos * v.y,
+        )
+    }
+
+    /// `R(θ)ᵀ v = R(-θ) v`.
+    #[inline]
+    pub fn inverse(self, v: Vec2) -> Vec2 {
+        Vec2::new(
+            self.cos * v.x + self.sin * v.y,
+            -self.sin * v.x + self.cos * v.y,
+        )
+    }
+}
 
 /// Reused buffers for evaluating a [`Model`] at one `(q, u)`; allocated once per model.
+///
+/// After [`Workspace::update`] every field and method describes that `(q, u)`.
 #[derive(Clone, Debug)]
 pub struct Workspace {
     /// Centre-of-mass position of each body, world frame, m.
@@ -16,86 +53,223 @@ pub struct Workspace {
     pub angular_velocity: Vec<f64>,
     /// Centre-of-mass velocity of each body, m/s.
     pub velocity: Vec<Vec2>,
-    /// Rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`.
-    pub jacobian: DMatrix<f64>,
+    /// Number of generalised coordinates `n`.
+    dof: usize,
+    /// Rotation of each body; NaN for bodies whose geometry never needs it.
+    rotation: Vec<Rotation>,
+    /// Whether body `b`'s rotation is needed (shapes, springs, offsets on it).
+    needs_rotation: Vec<bool>,
+    /// Row-major `3B × n`: rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`.
+    jacobian: Vec<f64>,
+    /// Sorted columns of the structurally non-zero entries of Jacobian row `r`:
+    /// `pattern[pattern_start[r]..pattern_start[r + 1]]` (a body depends on the base and
+    /// its ancestors' joints only); every other entry stays zero.
+    pattern: Vec<usize>,
+    pattern_start: Vec<usize>,
     /// `J̇_b u` of each body's centre of mass (centripetal terms), m/s².
-    pub bias: Vec<Vec2>,
+    bias: Vec<Vec2>,
 }
 
 impl Workspace {
     /// Buffers sized for `model`.
     pub fn new(model: &Model) -> Self {
         let nb = model.bodies.len();
+        let mut needs_rotation = vec![false; nb];
+        for s in &model.shapes {
+            needs_rotation[s.body] = true;
+        }
+        for s in &model.springs {
+            needs_rotation[s.body_a] |= s.point_a != Vec2::zeros();
+            needs_rotation[s.body_b] |= s.point_b != Vec2::zeros();
+        }
+        for (b, body) in model.bodies.iter().enumerate() {
+            if let Some(j) = &body.joint {
+                needs_rotation[b] |= j.com_in_child != Vec2::zeros();
+                needs_rotation[j.parent] |= j.pivot_in_parent != Vec2::zeros();
+            }
+        }
+        let (pattern, pattern_start) = jacobian_pattern(model);
+        let nan = Rotation {
+            sin: f64::NAN,
+            cos: f64::NAN,
+        };
         Self {
             position: vec![Vec2::zeros(); nb],
             angle: vec![0.0; nb],
             angular_velocity: vec![0.0; nb],
             velocity: vec![Vec2::zeros(); nb],
-            jacobian: DMatrix::zeros(3 * nb, model.dof()),
+            dof: model.dof(),
+            rotation: vec![nan; nb],
+            needs_rotation,
+            jacobian: vec![0.0; 3 * nb * model.dof()],
+            pattern,
+            pattern_start,
             bias: vec![Vec2::zeros(); nb],
         }
     }
 
     /// Evaluates poses, Jacobians, velocities and bias accelerations at `(q, u)`.
     pub fn update(&mut self, model: &Model, q: &DVector<f64>, u: &DVector<f64>) {
-        self.jacobian.fill(0.0);
+        self.update_slices(model, q.as_slice(), u.as_slice());
+    }
+
+    /// [`Workspace::update`] on plain slices.
+    ///
+    /// # Panics
+    /// If `q` or `u` does not have [`Model::dof`] entries (the stepper checks the state
+    /// first and returns an error instead).
+    pub fn update_slices(&mut self, model: &Model, q: &[f64], u: &[f64]) {
+        let n = self.dof;
+        assert!(q.len() == n && u.len() == n, "q and u need {n} entries");
+        // Entries outside the sparsity pattern are never written: they stay zero.
         self.position[0] = Vec2::new(q[0], q[1]);
         self.angle[0] = q[2];
-        for k in 0..3 {
-            self.jacobian[(k, k)] = 1.0;
+        if self.needs_rotation[0] {
+            self.rotation[0] = Rotation::new(q[2]);
         }
+        self.velocity[0] = Vec2::new(u[0], u[1]);
+        self.angular_velocity[0] = u[2];
         self.bias[0] = Vec2::zeros();
+        for k in 0..3 {
+            self.jacobian[k * n + k] = 1.0;
+        }
         for (b, body) in model.bodies.iter().enumerate().skip(1) {
-            let joint = body.joint.as_ref().expect("non-base bodies have joints");
+            let Some(joint) = body.joint.as_ref() else {
+                unreachable!("Model::new checks that every body after the first has a joint")
+            };
             let p = joint.parent;
             let coord = 2 + b;
-            self.angle[b] = match joint.coordinate {
-                JointCoordinate::Absolute => q[coord],
-                JointCoordinate::Relative => self.angle[p] + q[coord],
+            let (angle, rate) = match joint.coordinate {
+                JointCoordinate::Absolute => (q[coord], u[coord]),
+                JointCoordinate::Relative => (
+                    self.angle[p] + q[coord],
+                    self.angular_velocity[p] + u[coord],
+                ),
             };
-            // θ_b row: copy the parent's for a relative coordinate.
-            if joint.coordinate == JointCoordinate::Relative {
-                for j in 0..model.dof() {
-                    self.jacobian[(3 * b + 2, j)] = self.jacobian[(3 * p + 2, j)];
+            self.angle[b] = angle;
+            self.angular_velocity[b] = rate;
+            if self.needs_rotation[b] {
+                self.rotation[b] = Rotation::new(angle);
+            }
+            let r_pivot = rotated(self.rotation[p], joint.pivot_in_parent);
+            let r_com = rotated(self.rotation[b], joint.com_in_child);
+            let (lp, lc) = (perp(r_pivot), perp(r_com));
+            let wp = self.angular_velocity[p];
+            self.position[b] = self.position[p] + r_pivot + r_com;
+            self.velocity[b] = self.velocity[p] + lp * wp + lc * rate;
+            // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it.
+            self.bias[b] = self.bias[p] - r_pivot * (wp * wp) - r_com * (rate * rate);
+            // Jacobian rows of b from those of its parent p (p < b, so p's rows come first).
+            let (before, rest) = self.jacobian.split_at_mut(3 * b * n);
+            let parent = &before[3 * p * n..3 * p * n + 3 * n];
+            let (px, rest_p) = parent.split_at(n);
+            let (py, pt) = rest_p.split_at(n);
+            let (bx, rest_b) = rest[..3 * n].split_at_mut(n);
+            let (by, bt) = rest_b.split_at_mut(n);
+            match joint.coordinate {
+                // Only entry `coord` of an absolute angle's row is in its pattern.
+                JointCoordinate::Absolute => bt[coord] = 1.0,
+                JointCoordinate::Relative => {
+                    bt.copy_from_slice(pt);
+                    bt[coord] += 1.0;
                 }
             }
-            self.jacobian[(3 * b + 2, coord)] += 1.0;
-            let r_pivot = rotate(self.angle[p], joint.pivot_in_parent);
-            let r_com = rotate(self.angle[b], joint.com_in_child);
-            self.position[b] = self.position[p] + r_pivot + r_com;
-            let (lp, lc) = (lever(r_pivot), lever(r_com));
-            for j in 0..model.dof() {
-                let (jp, jb) = (self.jacobian[(3 * p + 2, j)], self.jacobian[(3 * b + 2, j)]);
-                self.jacobian[(3 * b, j)] = self.jacobian[(3 * p, j)] + lp.x * jp + lc.x * jb;
-                self.jacobian[(3 * b + 1, j)] =
-                    self.jacobian[(3 * p + 1, j)] + lp.y * jp + lc.y * jb;
+            let bt = &*bt;
+            for ((bx, by), ((px, py), (pt, bt))) in bx
+                .iter_mut()
+                .zip(by.iter_mut())
+                .zip(px.iter().zip(py).zip(pt.iter().zip(bt)))
+            {
+                *bx = px + lp.x * pt + lc.x * bt;
+                *by = py + lp.y * pt + lc.y * bt;
             }
-        }
-        for b in 0..model.bodies.len() {
-            let row_dot = |r: usize| (0..u.len()).map(|j| self.jacobian[(r, j)] * u[j]).sum();
-            self.velocity[b] = Vec2::new(row_dot(3 * b), row_dot(3 * b + 1));
-            self.angular_velocity[b] = row_dot(3 * b + 2);
-        }
-        for (b, body) in model.bodies.iter().enumerate().skip(1) {
-            let joint = body.joint.as_ref().expect("non-base bodies have joints");
-            let p = joint.parent;
-            let r_pivot = rotate(self.angle[p], joint.pivot_in_parent);
-            let r_com = rotate(self.angle[b], joint.com_in_child);
-            let (wp, wb) = (self.angular_velocity[p], self.angular_velocity[b]);
-            self.bias[b] = self.bias[p] - r_pivot * (wp * wp) - r_com * (wb * wb);
         }
     }
 
-    /// Adds `scale · J_Pᵀ f` to `out`, where `J_P` is the Jacobian of the material point of
-    /// body `b` at world offset `r` from its centre of mass and `f` a world force.
-    pub fn add_point_force(&self, b: usize, r: Vec2, f: Vec2, out: &mut DVector<f64>) {
-        let l = lever(r);
-        let torque = l.dot(&f);
-        for j in 0..out.len() {
-            out[j] += self.jacobian[(3 * b, j)] * f.x
-                + self.jacobian[(3 * b + 1, j)] * f.y
-                + self.jacobian[(3 * b + 2, j)] * torque;
+    /// Number of generalised coordinates.
+    pub fn dof(&self) -> usize {
+        self.dof
+    }
+
+    /// Rotation of body `b` (only for bodies with geometry on them).
+    #[inline]
+    pub(crate) fn rotation(&self, b: usize) -> Rotation {
+        self.rotation[b]
+    }
+
+    /// `J̇_b u` of body `b`'s centre of mass, m/s².
+    #[inline]
+    pub fn bias(&self, b: usize) -> Vec2 {
+        self.bias[b]
+    }
+
+    /// Jacobian row `row` (`3b + k`: `∂x_b/∂q`, `∂y_b/∂q`, `∂θ_b/∂q` for `k` = 0, 1, 2).
+    #[inline]
+    pub fn jacobian_row(&self, row: usize) -> &[f64] {
+        &self.jacobian[row * self.dof..(row + 1) * self.dof]
+    }
+
+    /// The Jacobian rows `∂x_b/∂q`, `∂y_b/∂q`, `∂θ_b/∂q` of body `b`.
+    #[inline]
+    pub fn jacobian_rows(&self, b: usize) -> (&[f64], &[f64], &[f64]) {
+        let n = self.dof;
+        let rows = &self.jacobian[3 * b * n..3 * b * n + 3 * n];
+        let (x, rest) = rows.split_at(n);
+        let (y, t) = rest.split_at(n);
+        (x, y, t)
+    }
+
+    /// The sorted columns where Jacobian row `row` (`3b + k`, `k` = x, y, θ) can be non-zero.
+    #[inline]
+    pub fn jacobian_pattern(&self, row: usize) -> &[usize] {
+        &self.pattern[self.pattern_start[row]..self.pattern_start[row + 1]]
+    }
+
+    /// Whether `M(q)` is diagonal at every `q`: every Jacobian row touches at most one
+    /// coordinate (a base with bodies pivoting at their own centres of mass, as Robbit).
+    pub fn mass_matrix_is_diagonal(&self) -> bool {
+        self.pattern_start.windows(2).all(|w| w[1] - w[0] <= 1)
+    }
+
+    /// Adds `J_Pᵀ f` to `out` (length `n`), where `J_P` is the Jacobian of the material
+    /// point of body `b` at world offset `r` from its centre of mass and `f` a world force.
+    #[inline]
+    pub fn add_point_force_to(&self, b: usize, r: Vec2, f: Vec2, out: &mut [f64]) {
+        let torque = perp(r).dot(&f);
+        let (x, y, t) = self.jacobian_rows(b);
+        for (o, ((x, y), t)) in out.iter_mut().zip(x.iter().zip(y).zip(t)) {
+            *o += x * f.x + y * f.y + t * torque;
         }
+    }
+
+    /// Writes `J_Pᵀ f` into `out` (length `n`), e.g. a contact direction `w_N`.
+    #[inline]
+    pub fn point_force_direction_to(&self, b: usize, r: Vec2, f: Vec2, out: &mut [f64]) {
+        let torque = perp(r).dot(&f);
+        let (x, y, t) = self.jacobian_rows(b);
+        for (o, ((x, y), t)) in out.iter_mut().zip(x.iter().zip(y).zip(t)) {
+            *o = x * f.x + y * f.y + t * torque;
+        }
+    }
+
+    /// Adds a torque `tau` on body `b` (and `-tau` on `reaction`, if any) to `out`.
+    #[inline]
+    pub fn add_torque_to(&self, b: usize, reaction: Option<usize>, tau: f64, out: &mut [f64]) {
+        let (_, _, t) = self.jacobian_rows(b);
+        for (o, t) in out.iter_mut().zip(t) {
+            *o += t * tau;
+        }
+        if let Some(r) = reaction {
+            let (_, _, t) = self.jacobian_rows(r);
+            for (o, t) in out.iter_mut().zip(t) {
+                *o -= t * tau;
+            }
+        }
+    }
+
+    /// Adds `J_Pᵀ f` to `out`, see [`Workspace::add_point_force_to`].
+    pub fn add_point_force(&self, b: usize, r: Vec2, f: Vec2, out: &mut DVector<f64>) {
+        self.add_point_force_to(b, r, f, out.as_mut_slice());
     }
 
     /// Writes `J_Pᵀ f` into `out` (the generalised direction of a point force, e.g. `w_N`).
@@ -104,29 +278,71 @@ impl Workspace {
         b: usize,
         r: Vec2,
         f: Vec2,
-        mut out: nalgebra::DVectorViewMut<'_, f64>,
+        mut out: DVectorViewMut<'_, f64>,
     ) {
-        let torque = lever(r).dot(&f);
-        for j in 0..out.len() {
-            out[j] = self.jacobian[(3 * b, j)] * f.x
-                + self.jacobian[(3 * b + 1, j)] * f.y
-                + self.jacobian[(3 * b + 2, j)] * torque;
+        let torque = perp(r).dot(&f);
+        let (x, y, t) = self.jacobian_rows(b);
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = x[j] * f.x + y[j] * f.y + t[j] * torque;
         }
     }
 
     /// Adds a torque `tau` on body `b` (and `-tau` on `reaction`, if any) to `out`.
     pub fn add_torque(&self, b: usize, reaction: Option<usize>, tau: f64, out: &mut DVector<f64>) {
-        for j in 0..out.len() {
-            let mut g = self.jacobian[(3 * b + 2, j)];
-            if let Some(r) = reaction {
-                g -= self.jacobian[(3 * r + 2, j)];
-            }
-            out[j] += g * tau;
-        }
+        self.add_torque_to(b, reaction, tau, out.as_mut_slice());
     }
 
     /// Velocity of the material point of body `b` at world offset `r` from its CoM.
+    #[inline]
     pub fn point_velocity(&self, b: usize, r: Vec2) -> Vec2 {
-        self.velocity[b] + lever(r) * self.angular_velocity[b]
+        self.velocity[b] + perp(r) * self.angular_velocity[b]
+    }
+}
+
+/// The structural sparsity of the Jacobian rows (see [`Workspace::jacobian_pattern`]).
+fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
+    let mut rows: Vec<Vec<usize>> = vec![vec![0], vec![1], vec![2]];
+    let union = |a: &[usize], b: &[usize]| {
+        let mut u: Vec<usize> = a.iter().chain(b).copied().collect();
+        u.sort_unstable();
+        u.dedup();
+        u
+    };
+    for (b, body) in model.bodies.iter().enumerate().skip(1) {
+        let Some(joint) = body.joint.as_ref() else {
+            unreachable!("Model::new checks that every body after the first has a joint")
+        };
+        let p = joint.parent;
+        let theta = match joint.coordinate {
+            JointCoordinate::Absolute => vec![2 + b],
+            JointCoordinate::Relative => union(&rows[3 * p + 2], &[2 + b]),
+        };
+        let mut levers: Vec<usize> = Vec::new();
+        if joint.pivot_in_parent != Vec2::zeros() {
+            levers = union(&levers, &rows[3 * p + 2]);
+        }
+        if joint.com_in_child != Vec2::zeros() {
+            levers = union(&levers, &theta);
+        }
+        let x = union(&rows[3 * p], &levers);
+        let y = union(&rows[3 * p + 1], &levers);
+        rows.extend([x, y, theta]);
+    }
+    let mut start = vec![0];
+    let mut pattern = Vec::new();
+    for row in rows {
+        pattern.extend(row);
+        start.push(pattern.len());
+    }
+    (pattern, start)
+}
+
+/// `R v`, skipping the (possibly NaN) rotation of a body without geometry when `v = 0`.
+#[inline]
+fn rotated(rotation: Rotation, v: Vec2) -> Vec2 {
+    if v == Vec2::zeros() {
+        Vec2::zeros()
+    } else {
+        rotation.apply(v)
     }
 }

@@ -8,6 +8,7 @@
 
 mod body;
 mod contact;
+mod ellipse;
 mod forces;
 mod kinematics;
 mod model;
@@ -28,8 +29,7 @@ pub type Vec2 = nalgebra::Vector2<f64>;
 /// Rotates a body-frame vector by the angle `theta` (counter-clockwise).
 #[inline]
 pub fn rotate(theta: f64, v: Vec2) -> Vec2 {
-    let (s, c) = theta.sin_cos();
-    Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+    kinematics::Rotation::new(theta).apply(v)
 }
 
 /// The vector `v` turned by +90°: `ω × v` for unit `ω` out of the plane.

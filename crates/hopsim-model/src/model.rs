@@ -3,17 +3,8 @@
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
-use crate::{rotate, Body, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2, Workspace};
+use crate::{Body, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2, Workspace};
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
-
-/// The two parts of the smooth forces, kept apart for the energy balance.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum ForcePart {
-    /// Gravity, centripetal terms and elastic spring forces.
-    Conservative,
-    /// Joint and spring damping.
-    Dissipative,
-}
 
 /// What makes a model impossible to build.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -32,6 +23,8 @@ pub enum ModelError {
     MissingJoint { body: String },
     #[error("body '{body}': joint parent {parent} must be an earlier body")]
     BadParent { body: String, parent: usize },
+    #[error("body '{body}': {reason}")]
+    BadJoint { body: String, reason: String },
     #[error("{owner} '{name}': refers to body {body}, but the model has {count} bodies")]
     UnknownBody {
         owner: &'static str,
@@ -100,21 +93,39 @@ impl Model {
 
     /// Mass matrix `M = Σ_b J_bᵀ diag(m_b, m_b, I_b) J_b` (needs `ws.update` first).
     pub fn mass_matrix(&self, ws: &Workspace, m: &mut DMatrix<f64>) {
+        // M is symmetric, so its column-major storage equals the row-major one.
+        self.mass_matrix_to(ws, m.as_mut_slice());
+    }
+
+    /// [`Model::mass_matrix`] into the first `n²` entries of `m` (row-major, symmetric).
+    pub fn mass_matrix_to(&self, ws: &Workspace, m: &mut [f64]) {
         let n = self.dof();
+        let m = &mut m[..n * n];
         m.fill(0.0);
+        // Σ over Jacobian rows r of w r rᵀ, over each row's structural non-zeros only.
         for (b, body) in self.bodies.iter().enumerate() {
-            let weights = [body.mass, body.mass, body.inertia];
-            for (k, w) in weights.iter().enumerate() {
-                let row = 3 * b + k;
-                for i in 0..n {
-                    let ji = ws.jacobian[(row, i)];
-                    if ji == 0.0 {
-                        continue;
-                    }
-                    for j in 0..n {
-                        m[(i, j)] += w * ji * ws.jacobian[(row, j)];
+            for k in 0..3 {
+                let w = if k < 2 { body.mass } else { body.inertia };
+                let row = ws.jacobian_row(3 * b + k);
+                match ws.jacobian_pattern(3 * b + k) {
+                    // A row touching one coordinate (the common case) adds to the diagonal.
+                    &[i] => m[i * n + i] += w * row[i] * row[i],
+                    pattern => {
+                        // Upper triangle: the pattern is sorted.
+                        for (a, &i) in pattern.iter().enumerate() {
+                            let wi = w * row[i];
+                            let m_i = &mut m[i * n..(i + 1) * n];
+                            for &j in &pattern[a..] {
+                                m_i[j] += wi * row[j];
+                            }
+                        }
                     }
                 }
+            }
+        }
+        for i in 1..n {
+            for j in 0..i {
+                m[i * n + j] = m[j * n + i];
             }
         }
     }
@@ -123,25 +134,54 @@ impl Model {
     /// generalised actuator forces `applied` (needs `ws.update` first).
     pub fn forces(&self, ws: &Workspace, applied: &DVector<f64>, h: &mut DVector<f64>) {
         h.copy_from(applied);
-        self.add_forces(ws, h, ForcePart::Conservative);
-        self.add_forces(ws, h, ForcePart::Dissipative);
+        self.add_forces(ws, Some(h.as_mut_slice()), None);
+        self.add_forces(ws, None, Some(h.as_mut_slice()));
     }
 
     /// Only the dissipative part of `h`: joint and spring damping (for energy bookkeeping).
     pub fn damping_forces(&self, ws: &Workspace, out: &mut DVector<f64>) {
         out.fill(0.0);
-        self.add_forces(ws, out, ForcePart::Dissipative);
+        self.add_forces(ws, None, Some(out.as_mut_slice()));
     }
 
-    fn add_forces(&self, ws: &Workspace, h: &mut DVector<f64>, part: ForcePart) {
-        let conservative = part == ForcePart::Conservative;
+    /// [`Model::forces`] and [`Model::damping_forces`] in one pass over slices of length
+    /// `n`: `h = applied + conservative + damping`, `damping` alone.
+    pub fn forces_split(
+        &self,
+        ws: &Workspace,
+        applied: &[f64],
+        h: &mut [f64],
+        damping: &mut [f64],
+    ) {
+        h.copy_from_slice(applied);
+        damping.fill(0.0);
+        self.add_forces(ws, Some(&mut *h), Some(&mut *damping));
+        for (h, d) in h.iter_mut().zip(damping.iter()) {
+            *h += d;
+        }
+    }
+
+    /// Adds the conservative forces (gravity, centripetal terms, elastic spring forces;
+    /// physics.md §1) to `conservative` and joint and spring damping to `dissipative`.
+    fn add_forces(
+        &self,
+        ws: &Workspace,
+        mut conservative: Option<&mut [f64]>,
+        mut dissipative: Option<&mut [f64]>,
+    ) {
         for (b, body) in self.bodies.iter().enumerate() {
-            if conservative {
-                let f = body.mass * (self.gravity - ws.bias[b]);
-                ws.add_point_force(b, Vec2::zeros(), f, h);
-            } else if let Some(joint) = body.joint.as_ref().filter(|j| j.damping != 0.0) {
+            if let Some(h) = conservative.as_deref_mut() {
+                // M u̇ = Σ J_bᵀ m_b (g - J̇_b u): the velocity-product terms enter as the
+                // centripetal "bias" accelerations of the body's centre of mass.
+                let f = body.mass * (self.gravity - ws.bias(b));
+                ws.add_point_force_to(b, Vec2::zeros(), f, h);
+            }
+            if let (Some(h), Some(joint)) = (
+                dissipative.as_deref_mut(),
+                body.joint.as_ref().filter(|j| j.damping != 0.0),
+            ) {
                 let rate = ws.angular_velocity[b] - ws.angular_velocity[joint.parent];
-                ws.add_torque(b, Some(joint.parent), -joint.damping * rate, h);
+                ws.add_torque_to(b, Some(joint.parent), -joint.damping * rate, h);
             }
         }
         for spring in &self.springs {
@@ -153,17 +193,31 @@ impl Model {
                 &(ws.point_velocity(spring.body_a, ra) - ws.point_velocity(spring.body_b, rb)),
             );
             let (elastic, damping) = spring.tension(length, rate);
-            let f = -(if conservative { elastic } else { damping }) * dir;
-            ws.add_point_force(spring.body_a, ra, f, h);
-            ws.add_point_force(spring.body_b, rb, -f, h);
+            for (out, tension) in [
+                (conservative.as_deref_mut(), elastic),
+                (dissipative.as_deref_mut(), damping),
+            ] {
+                if let Some(h) = out.filter(|_| tension != 0.0) {
+                    let f = -tension * dir;
+                    ws.add_point_force_to(spring.body_a, ra, f, h);
+                    ws.add_point_force_to(spring.body_b, rb, -f, h);
+                }
+            }
         }
     }
 
     /// World offsets of a spring's two ends from their bodies' centres of mass.
     fn spring_offsets(&self, ws: &Workspace, spring: &Spring) -> (Vec2, Vec2) {
+        let offset = |b: usize, p: Vec2| {
+            if p == Vec2::zeros() {
+                p
+            } else {
+                ws.rotation(b).apply(p)
+            }
+        };
         (
-            rotate(ws.angle[spring.body_a], spring.point_a),
-            rotate(ws.angle[spring.body_b], spring.point_b),
+            offset(spring.body_a, spring.point_a),
+            offset(spring.body_b, spring.point_b),
         )
     }
 
@@ -178,6 +232,7 @@ impl Model {
     }
 
     /// Geometry of potential contact `i` (needs `ws.update` first).
+    #[inline]
     pub fn contact_geometry(&self, ws: &Workspace, i: usize) -> Option<ContactGeometry> {
         let c = &self.contacts[i];
         let inst = &self.shapes[c.shape];
@@ -185,8 +240,9 @@ impl Model {
             &inst.shape,
             c.feature,
             ws.position[inst.body],
-            ws.angle[inst.body],
-            &self.terrain.features[c.terrain],
+            ws.rotation(inst.body),
+            &self.terrain.features,
+            c.terrain,
         )
     }
 
@@ -204,6 +260,22 @@ impl Model {
         let r = geometry.point - ws.position[body];
         ws.point_force_direction(body, r, geometry.normal, w_n);
         ws.point_force_direction(body, r, geometry.tangent(), w_t);
+    }
+
+    /// [`Model::contact_directions`] into slices of length `n`.
+    #[inline]
+    pub fn contact_directions_to(
+        &self,
+        ws: &Workspace,
+        i: usize,
+        geometry: &ContactGeometry,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) {
+        let body = self.shapes[self.contacts[i].shape].body;
+        let r = geometry.point - ws.position[body];
+        ws.point_force_direction_to(body, r, geometry.normal, w_n);
+        ws.point_force_direction_to(body, r, geometry.tangent(), w_t);
     }
 
     /// Kinetic energy `½ Σ (m_b |v_b|² + I_b ω_b²)` = `½ uᵀ M u`.
@@ -286,6 +358,20 @@ fn check_bodies(bodies: &[Body]) -> Result<(), ModelError> {
                 parent: joint.parent,
             });
         }
+        let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
+        let reason = if !finite(joint.pivot_in_parent) || !finite(joint.com_in_child) {
+            Some("the joint's pivot and centre of mass offsets must be finite")
+        } else if !(joint.damping >= 0.0 && joint.damping.is_finite()) {
+            Some("joint damping must be finite and non-negative")
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            return Err(ModelError::BadJoint {
+                body: body.name.clone(),
+                reason: reason.into(),
+            });
+        }
     }
     Ok(())
 }
@@ -307,25 +393,58 @@ fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError
                 reason: reason.to_string(),
             })
         };
+        let positive = |x: f64| x > 0.0 && x.is_finite();
+        let finite = |v: &Vec2| v.x.is_finite() && v.y.is_finite();
         match &s.shape {
-            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } if *radius <= 0.0 => {
-                return bad("radius must be positive")
+            Shape::Circle { center, .. }
+            | Shape::Arc { center, .. }
+            | Shape::Ellipse { center, .. }
+                if !finite(center) =>
+            {
+                return bad("the centre must be finite")
+            }
+            Shape::Point { position } if !finite(position) => {
+                return bad("the point must be finite")
+            }
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } if !positive(*radius) => {
+                return bad("radius must be positive and finite")
             }
             Shape::Arc { start, end, .. }
-                if end.partial_cmp(start) != Some(std::cmp::Ordering::Greater) =>
+                if !end.is_finite()
+                    || end.partial_cmp(start) != Some(std::cmp::Ordering::Greater) =>
             {
                 return bad("arc end angle must be greater than its start angle")
             }
-            Shape::Ellipse { semi_x, semi_y, .. } if *semi_x <= 0.0 || *semi_y <= 0.0 => {
-                return bad("semi-axes must be positive")
+            Shape::Ellipse { semi_x, semi_y, .. } if !positive(*semi_x) || !positive(*semi_y) => {
+                return bad("semi-axes must be positive and finite")
             }
             Shape::Polygon { vertices } if vertices.len() < 3 => {
                 return bad("a polygon needs at least three vertices")
             }
+            Shape::Polygon { vertices } if !is_convex_counter_clockwise(vertices) => return bad(
+                "polygon vertices must be finite and run counter-clockwise around a convex polygon",
+            ),
             _ => {}
         }
     }
     Ok(())
+}
+
+/// Whether every turn of the closed polyline is strictly to the left (convex, CCW) and it
+/// winds once (the turning angles sum to 2π).
+fn is_convex_counter_clockwise(vertices: &[Vec2]) -> bool {
+    let count = vertices.len();
+    let edge = |i: usize| vertices[(i + 1) % count] - vertices[i];
+    let mut winding = 0.0;
+    for i in 0..count {
+        let (a, b) = (edge(i), edge((i + 1) % count));
+        let cross = a.x * b.y - a.y * b.x;
+        if cross <= 0.0 || !cross.is_finite() {
+            return false;
+        }
+        winding += cross.atan2(a.dot(&b));
+    }
+    (winding - std::f64::consts::TAU).abs() < 1e-6
 }
 
 fn check_springs(springs: &[Spring], count: usize) -> Result<(), ModelError> {
@@ -340,23 +459,33 @@ fn check_springs(springs: &[Spring], count: usize) -> Result<(), ModelError> {
                 });
             }
         }
-        if s.stiffness < 0.0 || s.rest_length < 0.0 || s.damping < 0.0 {
+        let ok = |x: f64| x >= 0.0 && x.is_finite();
+        let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
+        if !ok(s.stiffness) || !ok(s.rest_length) || !ok(s.damping) {
             return Err(ModelError::BadSpring {
                 spring: s.name.clone(),
-                reason: "stiffness, rest length and damping must be non-negative".into(),
+                reason: "stiffness, rest length and damping must be finite and non-negative".into(),
+            });
+        }
+        if !finite(s.point_a) || !finite(s.point_b) {
+            return Err(ModelError::BadSpring {
+                spring: s.name.clone(),
+                reason: "the end points must be finite".into(),
             });
         }
     }
     Ok(())
 }
 
-/// Pairs every shape feature with every terrain feature it can touch.
+/// Pairs every shape feature with every terrain feature it can touch: smooth boundaries
+/// (circle, arc, ellipse) with lines and corners, vertices (polygon corners, arc ends,
+/// points) with lines, a polygon's edges with corners.
 fn candidates(
     shapes: &[ShapeInstance],
     terrain: &Terrain,
     material: ContactMaterial,
 ) -> Vec<ContactCandidate> {
-    use crate::TerrainFeature;
+    use crate::{Shape, TerrainFeature};
     let mut out = Vec::new();
     for (s, inst) in shapes.iter().enumerate() {
         for (t, feature) in terrain.features.iter().enumerate() {
@@ -370,11 +499,7 @@ fn candidates(
                     material,
                 })
             };
-            let smooth_touches = match inst.shape {
-                crate::Shape::Ellipse { .. } => is_line,
-                _ => inst.shape.is_smooth(),
-            };
-            if smooth_touches {
+            if inst.shape.is_smooth() {
                 push(ShapeFeature::Smooth, String::new());
             }
             if is_line {
@@ -387,6 +512,8 @@ fn candidates(
                     };
                     push(ShapeFeature::Vertex(k), label);
                 }
+            } else if matches!(inst.shape, Shape::Polygon { .. }) {
+                push(ShapeFeature::Edges, String::new());
             }
         }
     }

@@ -1,7 +1,8 @@
 //! Plain data handed to recorders: the static description of a run and per-frame samples.
 
 use hopsim_model::{Shape, Terrain};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// A body and the shapes drawn with it (body frame, relative to its centre of mass).
 #[derive(Clone, Debug)]
@@ -31,6 +32,10 @@ pub struct RecordingInfo {
     pub terrain: Terrain,
     /// Step size, s.
     pub dt: f64,
+    /// Weight `m g` of the whole robot, N. Sets the scale of the contact-force arrows in
+    /// Rerun (an arrow as long as the robot is a force equal to its weight); a value that
+    /// is not positive and finite falls back to 0.01 m/N.
+    pub weight_newtons: f64,
 }
 
 /// Pose of one body.
@@ -97,29 +102,147 @@ pub struct Frame<'a> {
     pub actuator_torque: f64,
 }
 
-/// What kind of discrete event happened.
-#[derive(Clone, Debug, Serialize)]
+/// What kind of discrete event happened. Serialised (MCAP `/hopsim/events`) with a `kind`
+/// tag in snake case and SI units in the field names.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum EventKind {
     /// A contact started carrying load after a flight phase.
     Touchdown { contact: String },
     /// The robot left the ground (no contact carries load).
     TakeOff,
-    /// A brake locked a relative rotation; `impulse` is the angular impulse transferred, N m s.
-    Brake { impulse: f64 },
+    /// A brake locked a relative rotation; `impulse` is the angular impulse transferred,
+    /// N m s (physics.md §5.3, `ζ`).
+    Brake {
+        #[serde(rename = "impulse_Nms")]
+        impulse: f64,
+    },
     /// A switchable shape (the cane) was extended or retracted.
     ShapeSwitch { shape: String, active: bool },
     /// An impulse was applied by the controller, N s or N m s.
     AppliedImpulse { magnitude: f64 },
 }
 
+impl EventKind {
+    /// The `kind` tag, e.g. `"take_off"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventKind::Touchdown { .. } => "touchdown",
+            EventKind::TakeOff => "take_off",
+            EventKind::Brake { .. } => "brake",
+            EventKind::ShapeSwitch { .. } => "shape_switch",
+            EventKind::AppliedImpulse { .. } => "applied_impulse",
+        }
+    }
+}
+
+/// The event's fields as `key=value` pairs, e.g. `impulse_Nms=0.059` (empty for a take-off).
+impl fmt::Display for EventKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EventKind::Touchdown { contact } => write!(f, "contact={contact}"),
+            EventKind::TakeOff => Ok(()),
+            EventKind::Brake { impulse } => write!(f, "impulse_Nms={impulse:?}"),
+            EventKind::ShapeSwitch { shape, active } => {
+                write!(f, "shape={shape} active={active}")
+            }
+            EventKind::AppliedImpulse { magnitude } => write!(f, "magnitude={magnitude:?}"),
+        }
+    }
+}
+
 /// A discrete event at a time.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Event {
     /// Time, s.
+    #[serde(rename = "t_s")]
     pub t: f64,
     /// Step index.
     pub step: u64,
     #[serde(flatten)]
     pub kind: EventKind,
+}
+
+/// The sizes a [`Frame`] of a recording must have; recorders check every frame against
+/// them so that a mismatch (a bug in the caller) is an error rather than a corrupt file.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FrameLayout {
+    coordinates: usize,
+    bodies: usize,
+    contacts: usize,
+    springs: usize,
+    shapes: usize,
+}
+
+impl FrameLayout {
+    pub(crate) fn of(info: &RecordingInfo) -> Self {
+        Self {
+            coordinates: info.coordinates.len(),
+            bodies: info.bodies.len(),
+            contacts: info.contacts.len(),
+            springs: info.springs.len(),
+            shapes: info.bodies.iter().map(|b| b.shapes.len()).sum(),
+        }
+    }
+
+    /// `Err` names the first entry count of `frame` that does not match.
+    pub(crate) fn check(&self, frame: &Frame<'_>) -> Result<(), String> {
+        let counts = [
+            ("q", frame.q.len(), self.coordinates),
+            ("u", frame.u.len(), self.coordinates),
+            ("bodies", frame.bodies.len(), self.bodies),
+            ("springs", frame.springs.len(), self.springs),
+            ("shapes_active", frame.shapes_active.len(), self.shapes),
+        ];
+        for (what, found, expected) in counts {
+            if found != expected {
+                return Err(format!(
+                    "frame at step {} has {found} {what} entries, the recording describes {expected}",
+                    frame.step
+                ));
+            }
+        }
+        match frame.contacts.iter().find(|c| c.contact >= self.contacts) {
+            Some(c) => Err(format!(
+                "frame at step {} names contact {}, the recording describes {}",
+                frame.step, c.contact, self.contacts
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn event_names_are_the_serialised_kind_tags() {
+        let kinds = [
+            EventKind::Touchdown {
+                contact: "c".into(),
+            },
+            EventKind::TakeOff,
+            EventKind::Brake { impulse: 0.05 },
+            EventKind::ShapeSwitch {
+                shape: "cane".into(),
+                active: true,
+            },
+            EventKind::AppliedImpulse { magnitude: 1.0 },
+        ];
+        for kind in kinds {
+            let event = Event {
+                t: 0.5,
+                step: 3,
+                kind,
+            };
+            let json = serde_json::to_value(&event).unwrap();
+            assert_eq!(json["kind"], event.kind.name());
+            assert_eq!(
+                (json["t_s"].as_f64(), json["step"].as_u64()),
+                (Some(0.5), Some(3))
+            );
+            assert_eq!(serde_json::from_value::<Event>(json).unwrap(), event);
+        }
+    }
 }

@@ -1,13 +1,42 @@
 //! Recording sinks: a simulation hands every recorded [`Frame`] and every [`Event`] to a
-//! [`Recorder`]; MCAP, Rerun and CSV recorders turn them into files the usual tools open.
+//! [`Recorder`]; MCAP, Rerun and CSV recorders turn them into files the usual tools open
+//! (docs/recording.md). Every file is written atomically ([`AtomicFile`]).
+//!
+//! The crate also reads its MCAP recordings back ([`McapRecording`]) and compares two
+//! recordings or impulse traces ([`compare_files`], used by `hopsim compare`).
 
+mod atomic;
+mod compare;
+mod csv;
 mod frame;
+mod geometry;
+mod mcap_format;
+mod mcap_read;
+mod mcap_write;
+mod rerun_sink;
 
+pub use atomic::{write_atomically, AtomicFile};
+pub use compare::{
+    compare_files, compare_states, CompareOptions, Comparison, StateDifference, StateMismatch,
+};
+pub use csv::CsvRecorder;
 pub use frame::{
     BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecordingInfo,
 };
+pub use mcap_format::{CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC};
+pub use mcap_read::{
+    McapRecording, RecordingMetadata, SceneAttachment, StateSample, BRAKE_CHANNEL,
+};
+pub use mcap_write::McapRecorder;
+pub use rerun_sink::{RerunRecorder, RERUN_VIEWER_INSTALL, STEP_TIMELINE, TIME_TIMELINE};
 
-/// What can go wrong while recording.
+/// Types of the public API from other hopsim crates, re-exported for the CLI and tests.
+pub use hopsim_model::{Shape, Terrain};
+pub use hopsim_step::{ImpulseSample, ImpulseTrace, TraceDifference, TraceTolerance};
+
+use std::path::Path;
+
+/// What can go wrong while recording or reading a recording.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
     #[error("{path}: {source}")]
@@ -17,6 +46,25 @@ pub enum RecordError {
     },
     #[error("{path}: {message}")]
     Format { path: String, message: String },
+    /// The live Rerun viewer could not be started.
+    #[error("{0}")]
+    Viewer(String),
+}
+
+impl RecordError {
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.display().to_string(),
+            source,
+        }
+    }
+
+    pub(crate) fn format(path: &Path, message: impl std::fmt::Display) -> Self {
+        Self::Format {
+            path: path.display().to_string(),
+            message: message.to_string(),
+        }
+    }
 }
 
 /// A sink for frames and events. `finish` makes the output complete (e.g. renames the
@@ -29,4 +77,44 @@ pub trait Recorder {
     fn event(&mut self, event: &Event) -> Result<(), RecordError>;
     /// Completes the output.
     fn finish(self: Box<Self>) -> Result<(), RecordError>;
+}
+
+/// Several recorders fed the same frames and events, in the order they were pushed.
+#[derive(Default)]
+pub struct RecorderSet {
+    recorders: Vec<Box<dyn Recorder>>,
+}
+
+impl RecorderSet {
+    /// Adds a recorder.
+    pub fn push(&mut self, recorder: Box<dyn Recorder>) {
+        self.recorders.push(recorder);
+    }
+
+    /// True when no recorder was added (the caller may then skip building frames).
+    pub fn is_empty(&self) -> bool {
+        self.recorders.is_empty()
+    }
+
+    /// Hands `frame` to every recorder; stops at the first error.
+    pub fn frame(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
+        self.recorders.iter_mut().try_for_each(|r| r.frame(frame))
+    }
+
+    /// Hands `event` to every recorder; stops at the first error.
+    pub fn event(&mut self, event: &Event) -> Result<(), RecordError> {
+        self.recorders.iter_mut().try_for_each(|r| r.event(event))
+    }
+
+    /// Finishes every recorder, even after one failed, and returns the first error.
+    pub fn finish(self) -> Result<(), RecordError> {
+        let mut first = Ok(());
+        for recorder in self.recorders {
+            let result = recorder.finish();
+            if first.is_ok() {
+                first = result;
+            }
+        }
+        first
+    }
 }

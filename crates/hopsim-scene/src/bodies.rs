@@ -3,7 +3,9 @@
 use crate::environment::read_material;
 use crate::error::{suggestion, SceneError};
 use crate::reader::{Num, Table};
-use hopsim_model::{Body, ContactMaterial, Joint, JointCoordinate, Shape, ShapeInstance, Spring, Vec2};
+use hopsim_model::{
+    Body, ContactMaterial, Joint, JointCoordinate, Shape, ShapeInstance, Spring, Vec2,
+};
 
 /// Names of things a scene refers to (bodies, shapes), with their indices.
 pub(crate) struct Names {
@@ -25,7 +27,10 @@ impl Names {
         if self.names.iter().any(|n| n == name) {
             return Err(table.error_at_key(
                 key,
-                format!("a {} named '{name}' already exists; names must be unique", self.what.0),
+                format!(
+                    "a {} named '{name}' already exists; names must be unique",
+                    self.what.0
+                ),
             ));
         }
         self.names.push(name.to_string());
@@ -47,7 +52,10 @@ impl Names {
             } else {
                 hint
             };
-            table.error_at_key(key, format!("there is no {} named '{name}'{known}", self.what.0))
+            table.error_at_key(
+                key,
+                format!("there is no {} named '{name}'{known}", self.what.0),
+            )
         })
     }
 
@@ -100,10 +108,11 @@ pub(crate) fn read_bodies(
                 if parent == b {
                     return Err(t.error_at_key("parent", "a body cannot be its own parent"));
                 }
-                let coordinate = match t.choice("coordinate", &["relative", "absolute"], Some("relative"))? {
-                    "absolute" => JointCoordinate::Absolute,
-                    _ => JointCoordinate::Relative,
-                };
+                let coordinate =
+                    match t.choice("coordinate", &["relative", "absolute"], Some("relative"))? {
+                        "absolute" => JointCoordinate::Absolute,
+                        _ => JointCoordinate::Relative,
+                    };
                 coordinates.push(match t.opt_str("coordinate_name")? {
                     Some(c) => c.to_string(),
                     None => format!("theta_{name}"),
@@ -223,7 +232,11 @@ fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
             }
         }
         _ => {
-            let vertices: Vec<Vec2> = t.vec2_list("vertices", "m")?.into_iter().map(vec2).collect();
+            let vertices: Vec<Vec2> = t
+                .vec2_list("vertices", "m")?
+                .into_iter()
+                .map(vec2)
+                .collect();
             check_convex_ccw(t, &vertices)?;
             Shape::Polygon { vertices }
         }
@@ -233,7 +246,10 @@ fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
 /// A polygon must have at least three vertices, counter-clockwise, strictly convex.
 fn check_convex_ccw(t: &Table<'_>, v: &[Vec2]) -> Result<(), SceneError> {
     if v.len() < 3 {
-        return Err(t.error_at_key("vertices", format!("a polygon needs at least 3 vertices, found {}", v.len())));
+        return Err(t.error_at_key(
+            "vertices",
+            format!("a polygon needs at least 3 vertices, found {}", v.len()),
+        ));
     }
     let n = v.len();
     for i in 0..n {
@@ -254,7 +270,10 @@ fn check_convex_ccw(t: &Table<'_>, v: &[Vec2]) -> Result<(), SceneError> {
     Ok(())
 }
 
-pub(crate) fn read_springs(tables: &[Table<'_>], bodies: &Names) -> Result<Vec<Spring>, SceneError> {
+pub(crate) fn read_springs(
+    tables: &[Table<'_>],
+    bodies: &Names,
+) -> Result<Vec<Spring>, SceneError> {
     let mut out = Vec::with_capacity(tables.len());
     let mut names = Names::new(("spring", "springs"));
     for (i, t) in tables.iter().enumerate() {

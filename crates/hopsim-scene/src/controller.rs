@@ -13,7 +13,11 @@ pub(crate) fn read_controller(
     shapes: &[ShapeSpec],
     shape_names: &Names,
 ) -> Result<ControllerConfig, SceneError> {
-    let kind = c.choice("type", &["passive", "momentum_impulse", "pulse"], Some("passive"))?;
+    let kind = c.choice(
+        "type",
+        &["passive", "momentum_impulse", "pulse"],
+        Some("passive"),
+    )?;
     let jointed = |key: &'static str| -> Result<usize, SceneError> {
         let b = body_names.resolve(c, key)?;
         if bodies[b].joint.is_none() {
@@ -39,11 +43,16 @@ pub(crate) fn read_controller(
             let joint_body = jointed("joint")?;
             let torque = c.f64("torque", Num::any("N m"))?;
             let pulse_duration = c.f64("pulse_duration", Num::positive("s"))?;
-            let period = match (c.opt_f64("period", Num::positive("s"))?, c.opt_f64("frequency", Num::positive("Hz"))?) {
+            let period = match (
+                c.opt_f64("period", Num::positive("s"))?,
+                c.opt_f64("frequency", Num::positive("Hz"))?,
+            ) {
                 (Some(p), None) => p,
                 (None, Some(f)) => 1.0 / f,
                 (Some(_), Some(_)) => {
-                    return Err(c.error_at_key("frequency", "give either period or frequency, not both"))
+                    return Err(
+                        c.error_at_key("frequency", "give either period or frequency, not both")
+                    )
                 }
                 (None, None) => {
                     return Err(c.error_at_key(
@@ -77,11 +86,13 @@ pub(crate) fn read_controller(
             let delay = c.opt_f64("cane_delay", fraction)?;
             let duration = c.opt_f64("cane_duration", fraction)?;
             let timed = |key, v: Option<f64>| {
-                v.ok_or_else(|| {
-                    c.error_at_key(key, "missing; required when cane_mode = \"timed\"")
-                })
+                v.ok_or_else(|| c.error_at_key(key, "missing; required when cane_mode = \"timed\""))
             };
-            let cane = match c.choice("cane_mode", &["retracted", "extended", "timed"], Some("retracted"))? {
+            let cane = match c.choice(
+                "cane_mode",
+                &["retracted", "extended", "timed"],
+                Some("retracted"),
+            )? {
                 "retracted" => CaneMode::Retracted,
                 "extended" => CaneMode::Extended,
                 _ => CaneMode::Timed {

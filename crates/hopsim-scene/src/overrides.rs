@@ -33,7 +33,9 @@ impl std::str::FromStr for Override {
             .ok_or_else(|| format!("'{s}': expected KEY=VALUE, e.g. controller.torque=0.2"))?;
         let key = key.trim();
         if key.is_empty() || key.split('.').any(|seg| seg.trim().is_empty()) {
-            return Err(format!("'{s}': the key must be a dotted path such as controller.torque"));
+            return Err(format!(
+                "'{s}': the key must be a dotted path such as controller.torque"
+            ));
         }
         Ok(Self {
             key: key.to_string(),
@@ -92,9 +94,9 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
             Kind::Array(items) => {
                 let pos = seg.parse::<usize>().ok().or_else(|| {
                     items.iter().position(|item| {
-                        item.entries()
-                            .iter()
-                            .any(|e| e.key == "name" && matches!(&e.node.kind, Kind::Str(n) if n == seg))
+                        item.entries().iter().any(|e| {
+                            e.key == "name" && matches!(&e.node.kind, Kind::Str(n) if n == seg)
+                        })
                     })
                 });
                 let len = items.len();
@@ -138,15 +140,26 @@ mod tests {
 
     #[test]
     fn overrides_replace_insert_and_index() {
-        let mut root = doc("[c]\nt = 0.1\n[[bodies]]\nname = \"disc\"\nmass = 1.0\n[i]\nq = [0.0, 0.1]\n");
-        for text in ["c.t=0.2", "c.mode=timed", "bodies.disc.mass=2", "i.q.1=0.5", "new.x=true"] {
+        let mut root =
+            doc("[c]\nt = 0.1\n[[bodies]]\nname = \"disc\"\nmass = 1.0\n[i]\nq = [0.0, 0.1]\n");
+        for text in [
+            "c.t=0.2",
+            "c.mode=timed",
+            "bodies.disc.mass=2",
+            "i.q.1=0.5",
+            "new.x=true",
+        ] {
             apply(&mut root, &text.parse().unwrap()).unwrap();
         }
         assert!(matches!(get(get(&root, "c"), "t").kind, Kind::Float(v) if v == 0.2));
         assert!(matches!(&get(get(&root, "c"), "mode").kind, Kind::Str(s) if s == "timed"));
-        let Kind::Array(bodies) = &get(&root, "bodies").kind else { panic!() };
+        let Kind::Array(bodies) = &get(&root, "bodies").kind else {
+            panic!()
+        };
         assert!(matches!(get(&bodies[0], "mass").kind, Kind::Int(2)));
-        let Kind::Array(q) = &get(get(&root, "i"), "q").kind else { panic!() };
+        let Kind::Array(q) = &get(get(&root, "i"), "q").kind else {
+            panic!()
+        };
         assert!(matches!(q[1].kind, Kind::Float(v) if v == 0.5));
         assert_eq!(q[1].origin, Origin::Override("i.q.1=0.5".into()));
         assert!(matches!(get(get(&root, "new"), "x").kind, Kind::Bool(true)));
@@ -155,9 +168,16 @@ mod tests {
     #[test]
     fn bad_paths_are_errors_naming_the_argument() {
         let mut root = doc("[c]\nt = 0.1\nq = [1.0]\n");
-        let e = apply(&mut root, &"c.t.x=1".parse().unwrap()).unwrap_err().to_string();
-        assert!(e.starts_with("--set c.t.x=1:") && e.contains("'c.t' is the number 0.1"), "{e}");
-        let e = apply(&mut root, &"c.q.4=1".parse().unwrap()).unwrap_err().to_string();
+        let e = apply(&mut root, &"c.t.x=1".parse().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("--set c.t.x=1:") && e.contains("'c.t' is the number 0.1"),
+            "{e}"
+        );
+        let e = apply(&mut root, &"c.q.4=1".parse().unwrap())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("array of 1"), "{e}");
         assert!("novalue".parse::<Override>().is_err());
         assert!("a..b=1".parse::<Override>().is_err());

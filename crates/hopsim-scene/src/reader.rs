@@ -148,12 +148,20 @@ impl<'a> Table<'a> {
             "" => "the scene".to_string(),
             p => format!("[{p}]"),
         };
-        self.error(&self.origin, key, format!("missing in {table}; expected {expected}"))
+        self.error(
+            &self.origin,
+            key,
+            format!("missing in {table}; expected {expected}"),
+        )
     }
 
     fn wrong(&self, key: &str, node: &Node, expected: &str) -> SceneError {
         let found = node.kind.describe();
-        self.error(&node.origin, key, format!("expected {expected}, found {found}"))
+        self.error(
+            &node.origin,
+            key,
+            format!("expected {expected}, found {found}"),
+        )
     }
 
     fn number(&self, key: &str, node: &Node, num: Num) -> Result<f64, SceneError> {
@@ -286,7 +294,11 @@ impl<'a> Table<'a> {
     }
 
     /// A required list of 2-vectors `[[x, y], …]`.
-    pub fn vec2_list(&self, key: &'static str, unit: &'static str) -> Result<Vec<[f64; 2]>, SceneError> {
+    pub fn vec2_list(
+        &self,
+        key: &'static str,
+        unit: &'static str,
+    ) -> Result<Vec<[f64; 2]>, SceneError> {
         let expected = format!("an array of [x, y] points in {unit}");
         let Some(node) = self.get(key) else {
             return Err(self.missing(key, &expected));
@@ -314,10 +326,12 @@ impl<'a> Table<'a> {
     pub fn opt_table(&self, key: &'static str) -> Result<Option<Table<'a>>, SceneError> {
         match self.get(key) {
             None => Ok(None),
-            Some(node @ Node {
-                kind: Kind::Table(entries),
-                ..
-            }) => Ok(Some(Table::new(
+            Some(
+                node @ Node {
+                    kind: Kind::Table(entries),
+                    ..
+                },
+            ) => Ok(Some(Table::new(
                 self.src,
                 entries,
                 node.origin.clone(),
@@ -329,9 +343,9 @@ impl<'a> Table<'a> {
 
     /// A sub-table that may be absent (then read as empty, placed at this table).
     pub fn table_or_empty(&self, key: &'static str) -> Result<Table<'a>, SceneError> {
-        Ok(self.opt_table(key)?.unwrap_or_else(|| {
-            Table::new(self.src, &[], self.origin.clone(), self.key_path(key))
-        }))
+        Ok(self
+            .opt_table(key)?
+            .unwrap_or_else(|| Table::new(self.src, &[], self.origin.clone(), self.key_path(key))))
     }
 
     /// An array of tables (`[[key]]`); empty when absent.

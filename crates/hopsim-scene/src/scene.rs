@@ -87,7 +87,9 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         "controller",
         "initial",
     ])?;
-    let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+    let stem = path
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy());
     let meta = read_meta(top.opt_table("meta")?, &stem)?;
     let sim = top.table_or_empty("simulation")?;
     let summary = top.table_or_empty("summary")?;
@@ -101,7 +103,12 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     let mut body_names = Names::new(("body", "bodies"));
     let (bodies, coordinates) = read_bodies(&top, &top.tables("bodies")?, &mut body_names)?;
     let mut shape_names = Names::new(("shape", "shapes"));
-    let shapes = read_shapes(&top.tables("shapes")?, &body_names, &mut shape_names, material)?;
+    let shapes = read_shapes(
+        &top.tables("shapes")?,
+        &body_names,
+        &mut shape_names,
+        material,
+    )?;
     let springs = read_springs(&top.tables("springs")?, &body_names)?;
     let control = top.table_or_empty("controller")?;
     let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
@@ -113,7 +120,9 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     for c in &mut model.contacts {
         c.material = shapes[c.shape].material;
     }
-    let switchable: Vec<usize> = (0..shapes.len()).filter(|&s| shapes[s].switchable).collect();
+    let switchable: Vec<usize> = (0..shapes.len())
+        .filter(|&s| shapes[s].switchable)
+        .collect();
 
     let init = top.table_or_empty("initial")?;
     let initial = read_initial(&init, &model, &shapes, &coordinates)?;
@@ -195,6 +204,10 @@ fn lowest_contact(
     ws.update(model, q, u);
     (0..model.contacts.len())
         .filter(|&i| !shapes[model.contacts[i].shape].switchable)
-        .filter_map(|i| model.contact_geometry(ws, i).map(|g| (g.gap, g.normal.y, i)))
+        .filter_map(|i| {
+            model
+                .contact_geometry(ws, i)
+                .map(|g| (g.gap, g.normal.y, i))
+        })
         .min_by(|a, b| a.0.total_cmp(&b.0))
 }

@@ -23,7 +23,10 @@ fn directive<'a>(text: &'a str, name: &str) -> Option<&'a str> {
 #[test]
 fn each_invalid_scene_gets_its_specific_message() {
     let files = fixtures();
-    assert!(files.len() >= 15, "expected the fixtures folder, found {files:?}");
+    assert!(
+        files.len() >= 15,
+        "expected the fixtures folder, found {files:?}"
+    );
     let mut failures = Vec::new();
     for path in &files {
         let text = std::fs::read_to_string(path).unwrap();
@@ -36,12 +39,18 @@ fn each_invalid_scene_gets_its_specific_message() {
             Err(e) => e.to_string(),
         };
         if !message.contains(expect) {
-            failures.push(format!("{}:\n  expected: {expect}\n  got:      {message}", path.display()));
+            failures.push(format!(
+                "{}:\n  expected: {expect}\n  got:      {message}",
+                path.display()
+            ));
         }
         if let Some(line) = directive(&text, "expect-line") {
             let at = format!("{}:{line}:", path.display());
             if !message.starts_with(&at) {
-                failures.push(format!("{}: expected the error at line {line}, got: {message}", path.display()));
+                failures.push(format!(
+                    "{}: expected the error at line {line}, got: {message}",
+                    path.display()
+                ));
             }
         }
     }

@@ -17,7 +17,10 @@ pub enum FlightEvent {
 enum Phase {
     Ground,
     /// No load since `(t, step)`, not yet clear of the terrain by the threshold.
-    Lifting { t: f64, step: u64 },
+    Lifting {
+        t: f64,
+        step: u64,
+    },
     Airborne,
 }
 
@@ -92,9 +95,15 @@ mod tests {
         assert_eq!(f.update(0.2, 2, true, 0.0), None);
         assert_eq!(f.hops(), 0);
         assert_eq!(f.update(0.3, 3, false, 1e-4), None);
-        assert_eq!(f.update(0.4, 4, false, 2e-3), Some(FlightEvent::TakeOff { t: 0.3, step: 3 }));
+        assert_eq!(
+            f.update(0.4, 4, false, 2e-3),
+            Some(FlightEvent::TakeOff { t: 0.3, step: 3 })
+        );
         assert!(f.airborne());
-        assert_eq!(f.update(0.5, 5, true, 0.0), Some(FlightEvent::Touchdown { t: 0.5, step: 5 }));
+        assert_eq!(
+            f.update(0.5, 5, true, 0.0),
+            Some(FlightEvent::Touchdown { t: 0.5, step: 5 })
+        );
         assert_eq!(f.hops(), 1);
     }
 }

@@ -4,6 +4,7 @@
 
 mod flight;
 mod observer;
+mod periodicity;
 mod recording;
 mod simulation;
 mod summary;
@@ -11,9 +12,10 @@ mod sweep;
 
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView};
+pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
 pub use simulation::{run, RunError, RunOptions, Simulation};
-pub use sweep::{grid_jobs, grid_points, sweep, GridAxis, SweepJob, SweepPoint};
 pub use summary::{
     CubeBaseline, EnergySummary, ImpulseSummary, LcpSummary, RobbitSummary, Summary,
 };
+pub use sweep::{grid_jobs, grid_points, sweep, GridAxis, SweepJob, SweepPoint};

@@ -90,19 +90,21 @@ impl Observer for RecordingObserver {
         let ws = view.kinematics;
         let model = view.model;
         self.bodies.clear();
-        self.bodies.extend((0..model.bodies.len()).map(|b| BodyPose {
-            position: [ws.position[b].x, ws.position[b].y],
-            angle: ws.angle[b],
-        }));
+        self.bodies
+            .extend((0..model.bodies.len()).map(|b| BodyPose {
+                position: [ws.position[b].x, ws.position[b].y],
+                angle: ws.angle[b],
+            }));
         self.contacts.clear();
-        self.contacts.extend(view.record.contacts.iter().map(|c| ContactSample {
-            contact: c.contact,
-            point: [c.point.x, c.point.y],
-            normal: [c.normal.x, c.normal.y],
-            impulse_normal: c.impulse_normal,
-            impulse_tangent: c.impulse_tangent,
-            state: c.state.as_str(),
-        }));
+        self.contacts
+            .extend(view.record.contacts.iter().map(|c| ContactSample {
+                contact: c.contact,
+                point: [c.point.x, c.point.y],
+                normal: [c.normal.x, c.normal.y],
+                impulse_normal: c.impulse_normal,
+                impulse_tangent: c.impulse_tangent,
+                state: c.state.as_str(),
+            }));
         self.springs.clear();
         self.springs.extend((0..model.springs.len()).map(|s| {
             let (a, b) = model.spring_ends(ws, s);

@@ -121,13 +121,11 @@ impl<'s> Simulation<'s> {
                 });
             }
         }
-        let record = self
-            .stepper
-            .step(model, &mut self.state, &self.actuation)?;
+        let record = self.stepper.step(model, &mut self.state, &self.actuation)?;
         // A brake acts inside the step: the event carries the impulse actually transferred.
         for lock in &record.locks {
             self.events.push(Event {
-                t: t0,
+                t: record.t,
                 step: record.step,
                 kind: EventKind::Brake {
                     impulse: lock.impulse.abs(),

@@ -1,7 +1,7 @@
 //! The run summary of physics.md §6: distance, speed, hops, impulses, energy, LCP.
 
 use crate::simulation::RunError;
-use crate::{Observer, Simulation, StepView};
+use crate::{Observer, Periodicity, PeriodicityOptions, PoincareSection, Simulation, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_model::{Model, Shape, Workspace};
 use hopsim_record::EventKind;
@@ -79,7 +79,14 @@ impl CubeBaseline {
             _ => None,
         })?;
         let (mass, inertia) = (model.total_mass(), model.bodies[disc].inertia);
-        Some(Self::new(mass, inertia, geometry, model.gravity.norm(), speed, restitution))
+        Some(Self::new(
+            mass,
+            inertia,
+            geometry,
+            model.gravity.norm(),
+            speed,
+            restitution,
+        ))
     }
 }
 
@@ -122,6 +129,10 @@ pub struct Summary {
     pub steps_per_s: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub robbit: Option<RobbitSummary>,
+    /// Pulse-driven scenes: the period of the gait on the section at the start of each
+    /// motor period (`PeriodicityOptions::default()`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gait: Option<Periodicity>,
 }
 
 /// Collects the summary while the run goes on.
@@ -135,6 +146,8 @@ pub(crate) struct SummaryCollector {
     window_brakes: u64,
     max_penetration: f64,
     max_balance_error: f64,
+    /// The state at the start of every motor period (pulse controller only).
+    section: Option<PoincareSection>,
 }
 
 impl SummaryCollector {
@@ -152,6 +165,15 @@ impl SummaryCollector {
             window_brakes: 0,
             max_penetration: 0.0,
             max_balance_error: 0.0,
+            section: match &scene.controller {
+                ControllerConfig::Pulse(c) => {
+                    let mut section = PoincareSection::new(c.period, scene.initial.t);
+                    let (q, u) = (&scene.initial.q, &scene.initial.u);
+                    section.push(scene.initial.t, q.as_slice(), u.as_slice());
+                    Some(section)
+                }
+                _ => None,
+            },
         }
     }
 
@@ -204,6 +226,9 @@ impl SummaryCollector {
             wall_time_s: wall_time,
             steps_per_s: steps as f64 / wall_time.max(1e-9),
             robbit,
+            gait: self
+                .section
+                .map(|s| s.detect(&PeriodicityOptions::default())),
         }
     }
 }
@@ -249,6 +274,9 @@ impl Observer for SummaryCollector {
         self.max_penetration = self.max_penetration.max(view.record.max_penetration);
         let balance = view.record.energy.balance_error().abs();
         self.max_balance_error = self.max_balance_error.max(balance);
+        if let Some(section) = &mut self.section {
+            section.push(t, view.state.q.as_slice(), view.state.u.as_slice());
+        }
         Ok(())
     }
 }
@@ -263,7 +291,11 @@ impl std::fmt::Display for Summary {
             self.scene, self.duration_s, self.steps, self.dt_s
         )?;
         writeln!(f, "  distance           {:>10.4} m", self.distance_m)?;
-        writeln!(f, "  mean speed         {:>10.4} m/s (last {w:.2} s)", self.mean_speed_mps)?;
+        writeln!(
+            f,
+            "  mean speed         {:>10.4} m/s (last {w:.2} s)",
+            self.mean_speed_mps
+        )?;
         writeln!(
             f,
             "  hops               {:>10} ({:.4} m per hop)",
@@ -275,7 +307,11 @@ impl std::fmt::Display for Summary {
             self.impulses.count, self.impulses.total_ns, self.impulse_per_distance
         )?;
         if let Some(r) = &self.robbit {
-            writeln!(f, "  brakes             {:>10.3} per s (last {w:.2} s)", r.brakes_per_s)?;
+            writeln!(
+                f,
+                "  brakes             {:>10.3} per s (last {w:.2} s)",
+                r.brakes_per_s
+            )?;
             writeln!(
                 f,
                 "  impulse/distance   {:>10.4} N s/m (last {w:.2} s)",
@@ -289,6 +325,9 @@ impl std::fmt::Display for Summary {
                 )?;
             }
         }
+        if let Some(g) = &self.gait {
+            writeln!(f, "  gait               {g}")?;
+        }
         writeln!(
             f,
             "  energy             kinetic {:.4} J, potential {:.4} J, spring {:.4} J",
@@ -299,7 +338,11 @@ impl std::fmt::Display for Summary {
             "                     actuator work {:.4} J, dissipated {:.4} J, balance error {:.2e} J (max {:.2e} J)",
             e.actuator_work, e.dissipated, e.balance_error, e.max_abs_balance_error
         )?;
-        writeln!(f, "  max penetration    {:>10.3e} m", self.max_penetration_m)?;
+        writeln!(
+            f,
+            "  max penetration    {:>10.3e} m",
+            self.max_penetration_m
+        )?;
         writeln!(
             f,
             "  LCP                {} solves, {} failures, at most {} pivots",

@@ -21,9 +21,9 @@ impl std::str::FromStr for GridAxis {
 
     /// `key=start:stop:count` (inclusive, evenly spaced) or `key=v1,v2,…`.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let (key, spec) = s
-            .split_once('=')
-            .ok_or_else(|| format!("grid axis '{s}': expected KEY=START:STOP:COUNT or KEY=V1,V2,..."))?;
+        let (key, spec) = s.split_once('=').ok_or_else(|| {
+            format!("grid axis '{s}': expected KEY=START:STOP:COUNT or KEY=V1,V2,...")
+        })?;
         let number = |t: &str| {
             t.trim()
                 .parse::<f64>()
@@ -38,7 +38,9 @@ impl std::str::FromStr for GridAxis {
                 .parse()
                 .ok()
                 .filter(|&n| n >= 1)
-                .ok_or_else(|| format!("grid axis '{s}': count '{count}' must be a positive integer"))?;
+                .ok_or_else(|| {
+                    format!("grid axis '{s}': count '{count}' must be a positive integer")
+                })?;
             (0..count)
                 .map(|i| match count {
                     1 => start,
@@ -160,8 +162,14 @@ mod tests {
     #[test]
     fn grid_is_row_major() {
         let axes = [
-            GridAxis { key: "a".into(), values: vec![1.0, 2.0] },
-            GridAxis { key: "b".into(), values: vec![10.0, 20.0, 30.0] },
+            GridAxis {
+                key: "a".into(),
+                values: vec![1.0, 2.0],
+            },
+            GridAxis {
+                key: "b".into(),
+                values: vec![10.0, 20.0, 30.0],
+            },
         ];
         let points = grid_points(&axes);
         assert_eq!(points.len(), 6);

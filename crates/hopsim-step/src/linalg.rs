@@ -1,92 +1,256 @@
-//! Small dense linear algebra in place, so the stepper allocates nothing per step.
+//! Small dense linear algebra on row-major slices, in place, so the stepper allocates
+//! nothing per step. The sizes are tiny (`n` = generalised coordinates, a handful), so
+//! plain loops over slices beat any general-purpose routine.
 
-use nalgebra::{DMatrix, DVector};
-
-/// Overwrites the leading `n × n` block of `a` with its lower Cholesky factor `L`
-/// (`a = L Lᵀ`). Returns `false` when the block is not positive definite.
-pub fn cholesky_in_place(a: &mut DMatrix<f64>, n: usize) -> bool {
-    for j in 0..n {
-        let mut d = a[(j, j)];
-        for k in 0..j {
-            d -= a[(j, k)] * a[(j, k)];
+/// Calls `$fixed::<N>` for `n = N ≤ 8` (loops the compiler unrolls), else `$dynamic`.
+macro_rules! by_size {
+    ($n:expr, $fixed:ident, $dynamic:ident, ($($arg:expr),*)) => {
+        match $n {
+            1 => $fixed::<1>($($arg),*),
+            2 => $fixed::<2>($($arg),*),
+            3 => $fixed::<3>($($arg),*),
+            4 => $fixed::<4>($($arg),*),
+            5 => $fixed::<5>($($arg),*),
+            6 => $fixed::<6>($($arg),*),
+            7 => $fixed::<7>($($arg),*),
+            8 => $fixed::<8>($($arg),*),
+            n => $dynamic(n, $($arg),*),
         }
-        if d <= 0.0 || !d.is_finite() {
+    };
+}
+
+/// Overwrites the leading `n × n` block of the row-major `a` (stride `n`) with its
+/// factorisation `a = L D Lᵀ` (`L` unit lower triangular below the diagonal, `1 / D_ii` on
+/// the diagonal: no square roots, and the solves multiply instead of divide). Returns
+/// `false` unless the block is positive definite (every pivot `D_ii > 0`).
+fn factor_in_place(a: &mut [f64], n: usize) -> bool {
+    by_size!(n, factor_fixed, factor_dynamic, (a))
+}
+
+/// Row `j` of the factor, rows `0..j` done: `w_k = L_jk D_k`, then `L_jk` and `1 / D_j`.
+#[inline(always)]
+fn factor_row(row_j: &mut [f64], done: &[f64], n: usize, j: usize) -> bool {
+    for k in 0..j {
+        let row_k = &done[k * n..k * n + k];
+        row_j[k] -= dot(&row_j[..k], row_k);
+    }
+    let mut d = row_j[j];
+    for k in 0..j {
+        let w = row_j[k];
+        let l = w * done[k * n + k];
+        d -= w * l;
+        row_j[k] = l;
+    }
+    if d <= 0.0 || !d.is_finite() {
+        return false;
+    }
+    row_j[j] = 1.0 / d;
+    true
+}
+
+fn factor_fixed<const N: usize>(a: &mut [f64]) -> bool {
+    let a = &mut a[..N * N];
+    for j in 0..N {
+        let (done, rest) = a.split_at_mut(j * N);
+        if !factor_row(&mut rest[..N], done, N, j) {
             return false;
-        }
-        let d = d.sqrt();
-        a[(j, j)] = d;
-        for i in j + 1..n {
-            let mut s = a[(i, j)];
-            for k in 0..j {
-                s -= a[(i, k)] * a[(j, k)];
-            }
-            a[(i, j)] = s / d;
         }
     }
     true
 }
 
-/// Solves `L Lᵀ x = b` in place for the leading `n` entries of `x` (holding `b`).
-pub fn cholesky_solve(l: &DMatrix<f64>, n: usize, x: &mut [f64]) {
-    for i in 0..n {
-        let mut s = x[i];
-        for k in 0..i {
-            s -= l[(i, k)] * x[k];
+fn factor_dynamic(n: usize, a: &mut [f64]) -> bool {
+    let a = &mut a[..n * n];
+    for j in 0..n {
+        let (done, rest) = a.split_at_mut(j * n);
+        if !factor_row(&mut rest[..n], done, n, j) {
+            return false;
         }
-        x[i] = s / l[(i, i)];
+    }
+    true
+}
+
+fn solve_dynamic(n: usize, l: &[f64], x: &mut [f64]) {
+    let x = &mut x[..n];
+    for i in 0..n {
+        x[i] -= dot(&l[i * n..i * n + i], &x[..i]);
     }
     for i in (0..n).rev() {
-        let mut s = x[i];
+        let mut s = x[i] * l[i * n + i];
         for k in i + 1..n {
-            s -= l[(k, i)] * x[k];
+            s -= l[k * n + i] * x[k];
         }
-        x[i] = s / l[(i, i)];
+        x[i] = s;
     }
 }
 
-/// Writes `a · x` (leading `rows × cols` block of `a`) into `out[..rows]`.
-pub fn mat_vec(a: &DMatrix<f64>, rows: usize, cols: usize, x: &[f64], out: &mut [f64]) {
-    out[..rows].fill(0.0);
-    for (j, xj) in x.iter().enumerate().take(cols) {
-        if *xj != 0.0 {
-            for (i, o) in out.iter_mut().enumerate().take(rows) {
-                *o += a[(i, j)] * xj;
+/// The `L D Lᵀ` factorisation of a small symmetric positive definite matrix in a reused
+/// buffer, solving several right-hand sides at once (independent dependency chains the
+/// processor overlaps). A structurally diagonal matrix (a body tree whose Jacobian rows
+/// each touch one coordinate, like Robbit's) takes the shortcut `x_i = b_i / a_ii`.
+#[derive(Clone, Debug)]
+pub struct Factor {
+    diagonal: bool,
+    n: usize,
+    data: Vec<f64>,
+}
+
+impl Factor {
+    /// Room for matrices up to `capacity × capacity`; `diagonal` when every matrix it
+    /// will factor is diagonal by structure.
+    pub fn new(capacity: usize, diagonal: bool) -> Self {
+        Self {
+            diagonal,
+            n: 0,
+            data: vec![0.0; capacity * capacity],
+        }
+    }
+
+    /// Factors the leading `n × n` block of the row-major `a` (stride `n`); `false` unless
+    /// it is positive definite.
+    pub fn factor(&mut self, a: &[f64], n: usize) -> bool {
+        self.n = n;
+        if self.diagonal {
+            for (i, inv) in self.data[..n].iter_mut().enumerate() {
+                let d = a[i * n + i];
+                if d <= 0.0 || !d.is_finite() {
+                    return false;
+                }
+                *inv = 1.0 / d;
+            }
+            return true;
+        }
+        let data = &mut self.data[..n * n];
+        data.copy_from_slice(&a[..n * n]);
+        factor_in_place(data, n)
+    }
+
+    /// Solves `A x = b` in place for each row of `xs` (`count × n`, row-major).
+    pub fn solve(&self, xs: &mut [f64]) {
+        let n = self.n;
+        if self.diagonal {
+            for row in xs.chunks_exact_mut(n) {
+                for (x, inv) in row.iter_mut().zip(&self.data[..n]) {
+                    *x *= inv;
+                }
+            }
+            return;
+        }
+        by_size!(n, solve_many_fixed, solve_many_dynamic, (&self.data, xs))
+    }
+}
+
+fn solve_many_fixed<const N: usize>(l: &[f64], xs: &mut [f64]) {
+    let (rows, _) = l.as_chunks::<N>();
+    let l = &rows[..N];
+    let (xs, _) = xs.as_chunks_mut::<N>();
+    for i in 0..N {
+        for k in 0..i {
+            let lik = l[i][k];
+            for x in xs.iter_mut() {
+                x[i] -= lik * x[k];
+            }
+        }
+    }
+    for i in (0..N).rev() {
+        let d = l[i][i];
+        for x in xs.iter_mut() {
+            x[i] *= d;
+        }
+        for k in i + 1..N {
+            let lki = l[k][i];
+            for x in xs.iter_mut() {
+                x[i] -= lki * x[k];
             }
         }
     }
 }
 
-/// `aᵀ b` for columns `ca` of `a` and `cb` of `b`, over the first `n` rows.
-pub fn col_dot(a: &DMatrix<f64>, ca: usize, b: &DMatrix<f64>, cb: usize, n: usize) -> f64 {
-    (0..n).map(|i| a[(i, ca)] * b[(i, cb)]).sum()
+fn solve_many_dynamic(n: usize, l: &[f64], xs: &mut [f64]) {
+    for x in xs.chunks_exact_mut(n) {
+        solve_dynamic(n, l, x);
+    }
 }
 
-/// `aᵀ v` for column `ca` of `a`.
-pub fn col_dot_vec(a: &DMatrix<f64>, ca: usize, v: &DVector<f64>) -> f64 {
-    (0..v.len()).map(|i| a[(i, ca)] * v[i]).sum()
+/// `aᵀ b` over the shorter of the two slices.
+#[inline]
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `y += alpha x`.
+#[inline]
+pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    for (y, x) in y.iter_mut().zip(x) {
+        *y += alpha * x;
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// `A x` for the row-major `n × n` matrix `a`.
+    fn times(a: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
+        (0..n).map(|i| dot(&a[i * n..(i + 1) * n], x)).collect()
+    }
+
     #[test]
-    fn cholesky_solves_a_spd_system() {
-        let a = DMatrix::from_row_slice(3, 3, &[4.0, 2.0, 0.4, 2.0, 5.0, 1.0, 0.4, 1.0, 3.0]);
+    fn the_factor_solves_a_spd_system() {
+        let a = [4.0, 2.0, 0.4, 2.0, 5.0, 1.0, 0.4, 1.0, 3.0];
         let x_true = [1.0, -2.0, 0.5];
-        let mut b = [0.0; 3];
-        mat_vec(&a, 3, 3, &x_true, &mut b);
-        let mut l = a.clone();
-        assert!(cholesky_in_place(&mut l, 3));
-        cholesky_solve(&l, 3, &mut b);
+        let mut b = times(&a, 3, &x_true);
+        let mut factor = Factor::new(3, false);
+        assert!(factor.factor(&a, 3));
+        factor.solve(&mut b);
         for (x, t) in b.iter().zip(x_true) {
             assert!((x - t).abs() < 1e-12, "{x} vs {t}");
         }
     }
 
     #[test]
-    fn cholesky_rejects_an_indefinite_matrix() {
-        let mut a = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
-        assert!(!cholesky_in_place(&mut a, 2));
+    fn fixed_and_dynamic_sizes_agree_for_many_right_hand_sides() {
+        // A 10 × 10 SPD matrix: its leading blocks exercise sizes 1..=10 (fixed up to 8).
+        let n: usize = 10;
+        let a: Vec<f64> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k / n, k % n);
+                1.0 / (1.0 + i.abs_diff(j) as f64) + if i == j { n as f64 } else { 0.0 }
+            })
+            .collect();
+        for size in 1..=n {
+            let block: Vec<f64> = (0..size * size)
+                .map(|k| a[(k / size) * n + k % size])
+                .collect();
+            let mut factor = Factor::new(n, false);
+            assert!(factor.factor(&block, size));
+            let rhs: Vec<f64> = (0..3 * size).map(|i| (i as f64).sin()).collect();
+            let mut x = rhs.clone();
+            factor.solve(&mut x);
+            for (x, b) in x.chunks_exact(size).zip(rhs.chunks_exact(size)) {
+                let residual = times(&block, size, x);
+                for (r, b) in residual.iter().zip(b) {
+                    assert!((r - b).abs() < 1e-12, "size {size}: {r} vs {b}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_diagonal_shortcut_divides() {
+        let d = [2.0, 0.0, 0.0, 4.0];
+        let mut diagonal = Factor::new(2, true);
+        assert!(diagonal.factor(&d, 2));
+        let mut x = [1.0, 1.0, 2.0, 2.0];
+        diagonal.solve(&mut x);
+        assert_eq!(x, [0.5, 0.25, 1.0, 0.5]);
+        assert!(!diagonal.factor(&[1.0, 0.0, 0.0, -1.0], 2));
+    }
+
+    #[test]
+    fn the_factor_rejects_an_indefinite_or_non_finite_matrix() {
+        let mut factor = Factor::new(2, false);
+        assert!(!factor.factor(&[1.0, 2.0, 2.0, 1.0], 2));
+        assert!(!factor.factor(&[1.0, 0.0, 0.0, f64::NAN], 2));
     }
 }

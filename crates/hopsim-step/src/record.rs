@@ -112,7 +112,7 @@ pub struct LcpStats {
 }
 
 /// Everything one step produced. Its buffers are reused from step to step.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct StepRecord {
     /// Steps taken so far (1 after the first step).
     pub step: u64,
@@ -130,8 +130,29 @@ pub struct StepRecord {
     /// Whether this step's LCP ended without a certified solution (the step then used the
     /// frictionless normal-contact LCP).
     pub lcp_failed: bool,
-    /// Largest penetration `max(-g_N, 0)` over the contacts at the end of the step, m.
+    /// Largest penetration `max(-g_N, 0)` over the enabled contacts at the end of the
+    /// step, m.
     pub max_penetration: f64,
+    /// Smallest gap `g_N` over the enabled contacts at the end of the step (`+∞` when none
+    /// can touch), m; computed in the same pass as `max_penetration`.
+    pub min_gap: f64,
+}
+
+impl Default for StepRecord {
+    /// Before any step: no contacts, nothing can touch (`min_gap = +∞`).
+    fn default() -> Self {
+        Self {
+            step: 0,
+            t: 0.0,
+            contacts: Vec::new(),
+            locks: Vec::new(),
+            energy: EnergyLedger::default(),
+            lcp_pivots: 0,
+            lcp_failed: false,
+            max_penetration: 0.0,
+            min_gap: f64::INFINITY,
+        }
+    }
 }
 
 impl StepRecord {

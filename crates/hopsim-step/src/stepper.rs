@@ -1,6 +1,6 @@
 //! One step of the Moreau midpoint scheme, steps 1-5 of physics.md §4.
 
-use crate::linalg::{cholesky_in_place, cholesky_solve, col_dot, col_dot_vec, mat_vec};
+use crate::linalg::{axpy, dot, Factor};
 use crate::{
     Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LockRecord,
     State, StepRecord,
@@ -52,6 +52,14 @@ pub enum StepError {
         speed: f64,
         limit: f64,
     },
+    #[error("step {step} (t = {t:.6} s): the state has {q} coordinates and {u} velocities, the model {dof}")]
+    StateSize {
+        step: u64,
+        t: f64,
+        q: usize,
+        u: usize,
+        dof: usize,
+    },
     #[error("step {step} (t = {t:.6} s): the mass matrix is not positive definite")]
     SingularMassMatrix { step: u64, t: f64 },
     #[error("step {step} (t = {t:.6} s): the velocity locks are redundant or singular")]
@@ -67,39 +75,68 @@ pub enum StepError {
 }
 
 /// The time-stepper: reused buffers for one model, so a step allocates nothing.
+///
+/// One [`Stepper::step`] is physics.md §4 line by line:
+/// 1. `q^M = q^A + Δt/2 u^A`;
+/// 2. kinematics, `M(q^M)` (factored as `L D Lᵀ`, never inverted), `h(q^M, u^A)`, the index
+///    set `H = {enabled contacts with g_N(q^M) ≤ 0}` and their `W_N`, `W_T` at `q^M`;
+///    impulsive locks `Bᵀ u^E = 0` replace `G = M⁻¹` by `G − G B (Bᵀ G B)⁻¹ Bᵀ G` and
+///    `ũ = u^A + G (h Δt + impulses)` by its projection;
+/// 3. the frictional LCP in `z = (Λ_N, Λ_R, ξ_L)`, `w = (ξ_N, ξ_R, Λ_L)` with the
+///    restitution terms `ε_N γ_N^A`, `ε_T γ_T^A`, solved by Lemke's method;
+/// 4. `u^E = ũ + G (W_N Λ_N + W_T Λ_T)`, `Λ_T = Λ_R − μ Λ_N`;
+/// 5. `q^E = q^M + Δt/2 u^E`, then the end-of-step kinematics, energies and gaps.
+///
+/// Only the products `G W` and `G (h Δt + …)` are needed, so they are computed by
+/// solves with that factor; the `3k × 3k` LCP is the only dense matrix built.
+///
+/// **LCP failures** are never silent. A step whose frictional LCP has no certified
+/// solution is counted in [`LcpStats::failures`] and flagged in
+/// [`StepRecord::lcp_failed`]. In strict mode ([`StepSettings::strict`]) it is a
+/// [`StepError::Lcp`]. Otherwise the step falls back to the frictionless normal-contact LCP
+/// (`G_NN Λ_N + W_Nᵀ ũ + ε_N γ_N^A ⟂ Λ_N ≥ 0`, a symmetric positive semi-definite problem
+/// Lemke's method always certifies when the contacts are not degenerate): the contacts
+/// still keep the bodies out of the ground (the percussions are not zeroed) and, without
+/// friction and with `ε = 0`, the step cannot add energy; only friction is lost for that
+/// one step, which the flag and the counter report. If that LCP fails too, the step is a
+/// [`StepError::Lcp`] in either mode.
 pub struct Stepper {
     settings: StepSettings,
+    /// Time of the run's start state: step `k` ends at `t_start + k Δt` (computed, not
+    /// accumulated, so times stay on the grid of step sizes).
+    t_start: f64,
     enabled: Vec<bool>,
     ws: Workspace,
-    mass: DMatrix<f64>,
-    chol: DMatrix<f64>,
-    /// `G = M⁻¹`, projected onto the velocity locks when there are any.
-    g: DMatrix<f64>,
-    h: DVector<f64>,
-    damping: DVector<f64>,
-    applied: DVector<f64>,
-    impulse: DVector<f64>,
-    u_tilde: DVector<f64>,
-    q_mid: DVector<f64>,
-    u_end: DVector<f64>,
+    /// Generalised coordinates `n`.
+    n: usize,
+    /// `M(q^M)`, row-major `n × n`, and its `L D Lᵀ` factor.
+    mass: Vec<f64>,
+    factor: Factor,
+    h: Vec<f64>,
+    damping: Vec<f64>,
+    applied: Vec<f64>,
+    impulse: Vec<f64>,
+    /// `h Δt + impulses`.
+    force: Vec<f64>,
+    /// Right-hand sides solved with `M` together, rows of length `n`: `h Δt + impulses`,
+    /// then `w_N` and `w_T` of each closed contact; after the solve `M⁻¹ (h Δt + …)`, and
+    /// `G w_N`, `G w_T` (projected onto the locks).
+    solved: Vec<f64>,
+    u_tilde: Vec<f64>,
+    q_mid: Vec<f64>,
+    u_end: Vec<f64>,
     scratch: Vec<f64>,
-    scratch2: Vec<f64>,
-    // Velocity locks: B (n × l), G B, the factor of S = Bᵀ G B.
-    b_lock: DMatrix<f64>,
-    gb_lock: DMatrix<f64>,
-    s_lock: DMatrix<f64>,
-    // Contacts of the index set: their indices, geometry, W_N, W_T, G W_N, G W_T.
+    locks: Locks,
+    // Contacts of the index set: their indices, geometry; row-major `k × n`: `w_N`, `w_T`.
     active: Vec<usize>,
     geometry: Vec<ContactGeometry>,
-    w_n: DMatrix<f64>,
-    w_t: DMatrix<f64>,
-    gw_n: DMatrix<f64>,
-    gw_t: DMatrix<f64>,
+    w_n: Vec<f64>,
+    w_t: Vec<f64>,
     gamma_n: Vec<f64>,
     gamma_t: Vec<f64>,
     lambda_n: Vec<f64>,
     lambda_t: Vec<f64>,
-    /// `ξ_T` of each closed contact (NaN after the frictionless fallback).
+    /// `ξ_T` of each closed contact (NaN after the frictionless fallback, until `u^E`).
     slip: Vec<f64>,
     lcp_a: DMatrix<f64>,
     lcp_b: DVector<f64>,
@@ -114,37 +151,48 @@ impl Stepper {
         let n = model.dof();
         let k = model.contacts.len();
         let locks = model.bodies.len();
+        let vector = |len: usize| vec![0.0; len];
+        let mut lcp = LemkeSolver::new(settings.lcp.clone());
+        let ws = Workspace::new(model);
+        let diagonal = ws.mass_matrix_is_diagonal();
+        lcp.reserve(3 * k);
         Self {
-            lcp: LemkeSolver::new(settings.lcp.clone()),
+            lcp,
             settings,
+            t_start: 0.0,
             enabled: vec![true; k],
-            ws: Workspace::new(model),
-            mass: DMatrix::zeros(n, n),
-            chol: DMatrix::zeros(n, n),
-            g: DMatrix::zeros(n, n),
-            h: DVector::zeros(n),
-            damping: DVector::zeros(n),
-            applied: DVector::zeros(n),
-            impulse: DVector::zeros(n),
-            u_tilde: DVector::zeros(n),
-            q_mid: DVector::zeros(n),
-            u_end: DVector::zeros(n),
-            scratch: vec![0.0; n.max(locks)],
-            scratch2: vec![0.0; n.max(locks)],
-            b_lock: DMatrix::zeros(n, locks),
-            gb_lock: DMatrix::zeros(n, locks),
-            s_lock: DMatrix::zeros(locks, locks),
+            ws,
+            n,
+            mass: vector(n * n),
+            factor: Factor::new(n, diagonal),
+            h: vector(n),
+            damping: vector(n),
+            applied: vector(n),
+            impulse: vector(n),
+            force: vector(n),
+            solved: vector((2 * k + 1) * n),
+            u_tilde: vector(n),
+            q_mid: vector(n),
+            u_end: vector(n),
+            scratch: vector(n.max(locks)),
+            locks: Locks {
+                count: 0,
+                n,
+                b: vector(locks * n),
+                y: vector(locks * n),
+                s: vector(locks * locks),
+                s_factor: Factor::new(locks, false),
+                p: vector(locks),
+            },
             active: Vec::with_capacity(k),
             geometry: Vec::with_capacity(k),
-            w_n: DMatrix::zeros(n, k),
-            w_t: DMatrix::zeros(n, k),
-            gw_n: DMatrix::zeros(n, k),
-            gw_t: DMatrix::zeros(n, k),
-            gamma_n: vec![0.0; k],
-            gamma_t: vec![0.0; k],
-            lambda_n: vec![0.0; k],
-            lambda_t: vec![0.0; k],
-            slip: vec![0.0; k],
+            w_n: vector(k * n),
+            w_t: vector(k * n),
+            gamma_n: vector(k),
+            gamma_t: vector(k),
+            lambda_n: vector(k),
+            lambda_t: vector(k),
+            slip: vector(k),
             lcp_a: DMatrix::zeros(3 * k, 3 * k),
             lcp_b: DVector::zeros(3 * k),
             record: StepRecord {
@@ -194,12 +242,13 @@ impl Stepper {
         energy.initial = energy.total();
         self.record.step = 0;
         self.record.t = state.t;
+        self.t_start = state.t;
         self.record.contacts.clear();
         self.record.locks.clear();
         self.record.energy = energy;
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
-        self.record.max_penetration = self.max_penetration(model);
+        self.fill_gaps(model);
         self.stats = LcpStats::default();
         &self.record
     }
@@ -210,12 +259,18 @@ impl Stepper {
         energy.spring = model.spring_energy(&self.ws);
     }
 
-    fn max_penetration(&self, model: &Model) -> f64 {
-        (0..model.contacts.len())
-            .filter(|&i| self.enabled[i])
-            .filter_map(|i| model.contact_geometry(&self.ws, i))
-            .map(|g| -g.gap)
-            .fold(0.0, f64::max)
+    /// `min_gap` and `max_penetration` of the record over the enabled contacts, in one pass.
+    fn fill_gaps(&mut self, model: &Model) {
+        let mut min_gap = f64::INFINITY;
+        for i in 0..model.contacts.len() {
+            if self.enabled[i] {
+                if let Some(g) = model.contact_geometry(&self.ws, i) {
+                    min_gap = min_gap.min(g.gap);
+                }
+            }
+        }
+        self.record.min_gap = min_gap;
+        self.record.max_penetration = (-min_gap).max(0.0);
     }
 
     /// Advances `state` by one step `Δt` under `actuation` (physics.md §4, steps 1-5).
@@ -227,21 +282,23 @@ impl Stepper {
     ) -> Result<&StepRecord, StepError> {
         let step = self.record.step + 1;
         let dt = self.settings.dt;
-        let n = model.dof();
+        let n = self.n;
         let err_t = state.t;
+        check_state(state, n, step, err_t, f64::INFINITY, true)?;
+        let (q, u) = (state.q.as_slice(), state.u.as_slice());
         // 1. Midpoint.
-        self.q_mid.copy_from(&state.q);
-        self.q_mid.axpy(0.5 * dt, &state.u, 1.0);
+        for ((m, q), u) in self.q_mid.iter_mut().zip(q).zip(u) {
+            *m = q + 0.5 * dt * u;
+        }
         // 2. M(q^M), h(q^M, u^A), actuation.
-        self.ws.update(model, &self.q_mid, &state.u);
-        model.mass_matrix(&self.ws, &mut self.mass);
+        self.ws.update_slices(model, &self.q_mid, u);
+        model.mass_matrix_to(&self.ws, &mut self.mass);
         self.applied.fill(0.0);
         for t in &actuation.torques {
             self.ws
-                .add_torque(t.body, t.reaction, t.torque, &mut self.applied);
+                .add_torque_to(t.body, t.reaction, t.torque, &mut self.applied);
         }
-        model.forces(&self.ws, &self.applied, &mut self.h);
-        model.damping_forces(&self.ws, &mut self.damping);
+        model.forces_split(&self.ws, &self.applied, &mut self.h, &mut self.damping);
         self.impulse.fill(0.0);
         for imp in &actuation.impulses {
             match *imp {
@@ -251,200 +308,160 @@ impl Stepper {
                     impulse,
                 } => self
                     .ws
-                    .add_point_force(body, offset, impulse, &mut self.impulse),
+                    .add_point_force_to(body, offset, impulse, &mut self.impulse),
                 ImpulseCommand::Rotational {
                     body,
                     reaction,
                     impulse,
                 } => self
                     .ws
-                    .add_torque(body, reaction, impulse, &mut self.impulse),
+                    .add_torque_to(body, reaction, impulse, &mut self.impulse),
             }
         }
-        // G = M⁻¹ and ũ = u^A + G (h Δt + impulses).
-        self.chol.copy_from(&self.mass);
-        if !cholesky_in_place(&mut self.chol, n) {
+        if !self.factor.factor(&self.mass, n) {
             return Err(StepError::SingularMassMatrix { step, t: err_t });
         }
-        for j in 0..n {
-            self.scratch[..n].fill(0.0);
-            self.scratch[j] = 1.0;
-            cholesky_solve(&self.chol, n, &mut self.scratch);
-            for i in 0..n {
-                self.g[(i, j)] = self.scratch[i];
-            }
+        self.locks.count = actuation.locks.len();
+        if self.locks.count > 0 && !self.locks.prepare(&self.ws, &self.factor, &actuation.locks) {
+            return Err(StepError::SingularLocks { step, t: err_t });
         }
-        for i in 0..n {
-            self.scratch2[i] = self.h[i] * dt + self.impulse[i];
-        }
-        mat_vec(&self.g, n, n, &self.scratch2, &mut self.scratch);
-        for i in 0..n {
-            self.u_tilde[i] = state.u[i] + self.scratch[i];
-        }
-        let locks = actuation.locks.len();
-        if locks > 0 {
-            self.project_locks(model, actuation, step, err_t)?;
-        }
-        // Index set H: enabled contacts with g_N(q^M) ≤ 0, and their W_N, W_T.
-        self.collect_active(model);
+        // Index set H: enabled contacts with g_N(q^M) ≤ 0, their W_N, W_T and γ^A.
+        self.collect_active(model, u);
         let k = self.active.len();
+        // ũ = u^A + G (h Δt + impulses) and G W_N, G W_T in one solve with M's factor,
+        // then projected onto the locks.
+        for ((f, h), p) in self.force.iter_mut().zip(&self.h).zip(&self.impulse) {
+            *f = h * dt + p;
+        }
+        let solved = &mut self.solved[..(2 * k + 1) * n];
+        let (first, rest) = solved.split_at_mut(n);
+        first.copy_from_slice(&self.force);
+        let (normals, tangents) = rest.split_at_mut(k * n);
+        normals.copy_from_slice(&self.w_n[..k * n]);
+        tangents.copy_from_slice(&self.w_t[..k * n]);
+        self.factor.solve(solved);
+        for row in solved[n..].chunks_exact_mut(n) {
+            self.locks.project(row);
+        }
+        for ((ut, a), g) in self.u_tilde.iter_mut().zip(u).zip(&self.solved[..n]) {
+            *ut = a + g;
+        }
+        self.locks.project(&mut self.u_tilde);
         self.record.contacts.clear();
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
         if k > 0 {
-            self.solve_contacts(model, state, step, err_t)?;
+            self.solve_contacts(model, step, err_t)?;
         }
         // 4. u^E = ũ + G (W_N Λ_N + W_T Λ_T).
-        self.u_end.copy_from(&self.u_tilde);
+        self.u_end.copy_from_slice(&self.u_tilde);
         for c in 0..k {
-            for i in 0..n {
-                self.u_end[i] +=
-                    self.gw_n[(i, c)] * self.lambda_n[c] + self.gw_t[(i, c)] * self.lambda_t[c];
-            }
+            axpy(
+                self.lambda_n[c],
+                row(&self.solved, n, 1 + c),
+                &mut self.u_end,
+            );
+            axpy(
+                self.lambda_t[c],
+                row(&self.solved, n, 1 + k + c),
+                &mut self.u_end,
+            );
         }
-        self.account_energy(model, state, actuation);
+        if k > 0 {
+            self.fill_contact_records(model, k);
+        }
+        self.account_energy(state, actuation);
         // 5. q^E = q^M + Δt/2 u^E.
-        state.q.copy_from(&self.q_mid);
-        state.q.axpy(0.5 * dt, &self.u_end, 1.0);
-        state.u.copy_from(&self.u_end);
-        state.t += dt;
-        self.check_state(state, step, err_t)?;
-        self.ws.update(model, &state.q, &state.u);
+        for ((q, m), v) in state
+            .q
+            .as_mut_slice()
+            .iter_mut()
+            .zip(&self.q_mid)
+            .zip(&self.u_end)
+        {
+            *q = m + 0.5 * dt * v;
+        }
+        state.u.as_mut_slice().copy_from_slice(&self.u_end);
+        if step == 1 {
+            self.t_start = err_t;
+        }
+        state.t = self.t_start + step as f64 * dt;
+        check_state(state, n, step, err_t, self.settings.max_speed, false)?;
+        self.ws
+            .update_slices(model, state.q.as_slice(), state.u.as_slice());
         let mut energy = self.record.energy;
         self.fill_energies(model, &mut energy);
         self.record.energy = energy;
-        self.record.max_penetration = self.max_penetration(model);
+        self.fill_gaps(model);
         self.record.step = step;
         self.record.t = state.t;
         Ok(&self.record)
     }
 
-    /// Replaces `G` by `G - G B S⁻¹ Bᵀ G` and `ũ` by `ũ - G B S⁻¹ Bᵀ ũ`, `S = Bᵀ G B`
-    /// (physics.md §4, impulsive equality constraints).
-    fn project_locks(
-        &mut self,
-        model: &Model,
-        actuation: &Actuation,
-        step: u64,
-        t: f64,
-    ) -> Result<(), StepError> {
-        let n = model.dof();
-        let l = actuation.locks.len();
-        for (c, &(a, b)) in actuation.locks.iter().enumerate() {
-            for i in 0..n {
-                self.b_lock[(i, c)] =
-                    self.ws.jacobian[(3 * a + 2, i)] - self.ws.jacobian[(3 * b + 2, i)];
-            }
-        }
-        for c in 0..l {
-            for i in 0..n {
-                self.gb_lock[(i, c)] = (0..n).map(|j| self.g[(i, j)] * self.b_lock[(j, c)]).sum();
-            }
-        }
-        for r in 0..l {
-            for c in 0..l {
-                self.s_lock[(r, c)] = col_dot(&self.b_lock, r, &self.gb_lock, c, n);
-            }
-        }
-        if !cholesky_in_place(&mut self.s_lock, l) {
-            return Err(StepError::SingularLocks { step, t });
-        }
-        // ũ ← ũ - G B S⁻¹ Bᵀ ũ.
-        for c in 0..l {
-            self.scratch[c] = col_dot_vec(&self.b_lock, c, &self.u_tilde);
-        }
-        cholesky_solve(&self.s_lock, l, &mut self.scratch);
-        for c in 0..l {
-            for i in 0..n {
-                self.u_tilde[i] -= self.gb_lock[(i, c)] * self.scratch[c];
-            }
-        }
-        // G ← G - (G B) S⁻¹ (G B)ᵀ, column by column.
-        for j in 0..n {
-            for c in 0..l {
-                self.scratch[c] = self.gb_lock[(j, c)];
-            }
-            cholesky_solve(&self.s_lock, l, &mut self.scratch);
-            for i in 0..n {
-                let mut s = 0.0;
-                for c in 0..l {
-                    s += self.gb_lock[(i, c)] * self.scratch[c];
-                }
-                self.g[(i, j)] -= s;
-            }
-        }
-        Ok(())
-    }
-
-    fn collect_active(&mut self, model: &Model) {
+    /// The index set at `q^M` with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`.
+    fn collect_active(&mut self, model: &Model, u: &[f64]) {
+        let n = self.n;
         self.active.clear();
         self.geometry.clear();
         for i in 0..model.contacts.len() {
             if !self.enabled[i] {
                 continue;
             }
-            if let Some(geom) = model.contact_geometry(&self.ws, i) {
-                if geom.gap <= 0.0 {
-                    self.active.push(i);
-                    self.geometry.push(geom);
-                }
+            let Some(geom) = model.contact_geometry(&self.ws, i) else {
+                continue;
+            };
+            if geom.gap > 0.0 {
+                continue;
             }
+            let c = self.active.len();
+            let rows = c * n..(c + 1) * n;
+            model.contact_directions_to(
+                &self.ws,
+                i,
+                &geom,
+                &mut self.w_n[rows.clone()],
+                &mut self.w_t[rows.clone()],
+            );
+            self.gamma_n[c] = dot(&self.w_n[rows.clone()], u);
+            self.gamma_t[c] = dot(&self.w_t[rows], u);
+            self.active.push(i);
+            self.geometry.push(geom);
         }
     }
 
     /// Builds and solves the contact LCP of physics.md §4 for the index set.
-    fn solve_contacts(
-        &mut self,
-        model: &Model,
-        state: &State,
-        step: u64,
-        t: f64,
-    ) -> Result<(), StepError> {
-        let n = model.dof();
+    fn solve_contacts(&mut self, model: &Model, step: u64, t: f64) -> Result<(), StepError> {
+        let n = self.n;
         let k = self.active.len();
-        for (c, (&i, geom)) in self.active.iter().zip(&self.geometry).enumerate() {
-            model.contact_directions(
-                &self.ws,
-                i,
-                geom,
-                self.w_n.column_mut(c).rows_mut(0, n),
-                self.w_t.column_mut(c).rows_mut(0, n),
-            );
-            self.gamma_n[c] = col_dot_vec(&self.w_n, c, &state.u);
-            self.gamma_t[c] = col_dot_vec(&self.w_t, c, &state.u);
-            for i in 0..n {
-                let (mut sn, mut st) = (0.0, 0.0);
-                for j in 0..n {
-                    sn += self.g[(i, j)] * self.w_n[(j, c)];
-                    st += self.g[(i, j)] * self.w_t[(j, c)];
-                }
-                self.gw_n[(i, c)] = sn;
-                self.gw_t[(i, c)] = st;
-            }
-        }
         let size = 3 * k;
-        self.lcp_a.view_mut((0, 0), (size, size)).fill(0.0);
+        // A (column-major, leading dimension `ld`) and b of physics.md §4.
+        let ld = self.lcp_a.nrows();
+        let a = self.lcp_a.as_mut_slice();
+        for column in a.chunks_exact_mut(ld).take(size) {
+            column[..size].fill(0.0);
+        }
+        let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
             let mat_r = &model.contacts[self.active[r]].material;
+            let (w_n, w_t) = (row(&self.w_n, n, r), row(&self.w_t, n, r));
             for c in 0..k {
                 let mu_c = model.contacts[self.active[c]].material.friction;
-                let g_nn = col_dot(&self.w_n, r, &self.gw_n, c, n);
-                let g_nt = col_dot(&self.w_n, r, &self.gw_t, c, n);
-                let g_tn = col_dot(&self.w_t, r, &self.gw_n, c, n);
-                let g_tt = col_dot(&self.w_t, r, &self.gw_t, c, n);
-                self.lcp_a[(r, c)] = g_nn - g_nt * mu_c;
-                self.lcp_a[(r, k + c)] = g_nt;
-                self.lcp_a[(k + r, c)] = g_tn - g_tt * mu_c;
-                self.lcp_a[(k + r, k + c)] = g_tt;
+                let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
+                let g_nn = dot(w_n, gw_n);
+                let g_nt = dot(w_n, gw_t);
+                let g_tn = dot(w_t, gw_n);
+                let g_tt = dot(w_t, gw_t);
+                a[c * ld + r] = g_nn - g_nt * mu_c;
+                a[(k + c) * ld + r] = g_nt;
+                a[c * ld + k + r] = g_tn - g_tt * mu_c;
+                a[(k + c) * ld + k + r] = g_tt;
             }
-            self.lcp_a[(k + r, 2 * k + r)] = 1.0;
-            self.lcp_a[(2 * k + r, r)] = 2.0 * mat_r.friction;
-            self.lcp_a[(2 * k + r, k + r)] = -1.0;
-            self.lcp_b[r] = col_dot_vec(&self.w_n, r, &self.u_tilde)
-                + mat_r.restitution_normal * self.gamma_n[r];
-            self.lcp_b[k + r] = col_dot_vec(&self.w_t, r, &self.u_tilde)
-                + mat_r.restitution_tangent * self.gamma_t[r];
-            self.lcp_b[2 * k + r] = 0.0;
+            a[(2 * k + r) * ld + k + r] = 1.0;
+            a[r * ld + 2 * k + r] = 2.0 * mat_r.friction;
+            a[(k + r) * ld + 2 * k + r] = -1.0;
+            b[r] = dot(w_n, &self.u_tilde) + mat_r.restitution_normal * self.gamma_n[r];
+            b[k + r] = dot(w_t, &self.u_tilde) + mat_r.restitution_tangent * self.gamma_t[r];
+            b[2 * k + r] = 0.0;
         }
         let solution = self
             .lcp
@@ -462,42 +479,42 @@ impl Stepper {
         self.stats.total_pivots += solution.pivots as u64;
         self.record.lcp_pivots = solution.pivots;
         if solution.status == LcpStatus::Solved {
+            // Λ_T = Λ_R − μ Λ_N, ξ_T = ξ_R − ξ_L. The certified solution meets the LCP to
+            // its tolerance (`rel_tol` of its scale); projecting the percussions onto the
+            // Coulomb cone (Λ_N ≥ 0, |Λ_T| ≤ μ Λ_N) moves them within that tolerance and
+            // keeps friction from doing positive work through round-off (e.g. at μ = 0).
             for c in 0..k {
                 let mu = model.contacts[self.active[c]].material.friction;
-                self.lambda_n[c] = solution.z[c];
-                self.lambda_t[c] = solution.z[k + c] - mu * solution.z[c];
+                let normal = solution.z[c].max(0.0);
+                let limit = mu * normal;
+                self.lambda_n[c] = normal;
+                self.lambda_t[c] = (solution.z[k + c] - mu * solution.z[c]).clamp(-limit, limit);
                 self.slip[c] = solution.w[k + c] - solution.z[2 * k + c];
             }
-        } else {
-            self.stats.failures += 1;
-            self.record.lcp_failed = true;
-            if self.settings.strict {
-                return Err(StepError::Lcp {
-                    step,
-                    t,
-                    size,
-                    contacts: k,
-                    status: solution.status.as_str(),
-                });
-            }
-            self.solve_frictionless(k, n, step, t)?;
+            return Ok(());
         }
-        self.fill_contact_records(model, k, n);
-        Ok(())
+        self.stats.failures += 1;
+        self.record.lcp_failed = true;
+        if self.settings.strict {
+            return Err(StepError::Lcp {
+                step,
+                t,
+                size,
+                contacts: k,
+                status: solution.status.as_str(),
+            });
+        }
+        self.solve_frictionless(k, step, t)
     }
 
-    /// Fallback after an uncertified frictional solve: the normal-contact LCP
-    /// `(W_Nᵀ G W_N) Λ_N + W_Nᵀ ũ + ε_N γ_N^A ⟂ Λ_N` with friction dropped for this step.
-    fn solve_frictionless(
-        &mut self,
-        k: usize,
-        n: usize,
-        step: u64,
-        t: f64,
-    ) -> Result<(), StepError> {
+    /// Fallback after an uncertified frictional solve (see [`Stepper`]): the normal-contact
+    /// LCP `(W_Nᵀ G W_N) Λ_N + W_Nᵀ ũ + ε_N γ_N^A ⟂ Λ_N` with friction dropped for this step.
+    fn solve_frictionless(&mut self, k: usize, step: u64, t: f64) -> Result<(), StepError> {
+        let n = self.n;
         for r in 0..k {
             for c in 0..k {
-                self.lcp_a[(r, c)] = col_dot(&self.w_n, r, &self.gw_n, c, n);
+                self.lcp_a[(r, c)] =
+                    dot(&self.w_n[r * n..(r + 1) * n], row(&self.solved, n, 1 + c));
             }
         }
         let solution = self
@@ -508,6 +525,7 @@ impl Stepper {
                 t,
                 what: "the contact LCP",
             })?;
+        self.stats.total_pivots += solution.pivots as u64;
         if solution.status != LcpStatus::Solved {
             return Err(StepError::Lcp {
                 step,
@@ -518,25 +536,27 @@ impl Stepper {
             });
         }
         for c in 0..k {
-            self.lambda_n[c] = solution.z[c];
+            self.lambda_n[c] = solution.z[c].max(0.0);
             self.lambda_t[c] = 0.0;
             self.slip[c] = f64::NAN;
         }
         Ok(())
     }
 
-    fn fill_contact_records(&mut self, model: &Model, k: usize, n: usize) {
+    /// The contact records of the step (after `u^E` is known).
+    fn fill_contact_records(&mut self, model: &Model, k: usize) {
+        let n = self.n;
         let scale = 1e-9;
         for c in 0..k {
             let (ln, lt) = (self.lambda_n[c], self.lambda_t[c]);
+            let material = &model.contacts[self.active[c]].material;
             let mut xi_t = self.slip[c];
             if xi_t.is_nan() {
-                // Frictionless fallback: the slip is the end tangential velocity.
-                xi_t = (0..n)
-                    .map(|i| self.w_t[(i, c)] * self.u_end_estimate(i, k))
-                    .sum();
+                // Frictionless fallback: ξ_T = γ_T^E + ε_T γ_T^A.
+                xi_t = dot(&self.w_t[c * n..(c + 1) * n], &self.u_end)
+                    + material.restitution_tangent * self.gamma_t[c];
             }
-            let mu = model.contacts[self.active[c]].material.friction;
+            let mu = material.friction;
             let state = if ln <= scale * (1.0 + ln.abs()) {
                 ContactState::Open
             } else if xi_t.abs() > 1e-8 && lt.abs() >= mu * ln * (1.0 - 1e-9) {
@@ -558,92 +578,182 @@ impl Stepper {
         }
     }
 
-    /// `u^E_i` from `ũ` and the percussions (before `u_end` is assembled).
-    fn u_end_estimate(&self, i: usize, k: usize) -> f64 {
-        self.u_tilde[i]
-            + (0..k)
-                .map(|c| {
-                    self.gw_n[(i, c)] * self.lambda_n[c] + self.gw_t[(i, c)] * self.lambda_t[c]
-                })
-                .sum::<f64>()
-    }
-
     /// Adds the step's works to the ledger: each impulse times `(u^A + u^E)/2`, and the
-    /// velocity-lock impulses `P = -S⁻¹ Bᵀ (u^A + G(hΔt + WΛ) )` to the record.
-    fn account_energy(&mut self, model: &Model, state: &State, actuation: &Actuation) {
-        let n = model.dof();
+    /// velocity-lock impulses `P` (from `M (u^E − u^A) = h Δt + impulses + W Λ + B P`) to
+    /// the record.
+    fn account_energy(&mut self, state: &State, actuation: &Actuation) {
+        let n = self.n;
         let dt = self.settings.dt;
         let k = self.active.len();
-        let mean = |i: usize| 0.5 * (state.u[i] + self.u_end[i]);
-        let mut energy = self.record.energy;
-        for i in 0..n {
-            let m = mean(i);
-            energy.actuator_work += (self.applied[i] * dt + self.impulse[i]) * m;
-            energy.damping_work += self.damping[i] * dt * m;
-            let contact: f64 = (0..k)
-                .map(|c| self.w_n[(i, c)] * self.lambda_n[c] + self.w_t[(i, c)] * self.lambda_t[c])
-                .sum();
-            energy.contact_work += contact * m;
+        let u = state.u.as_slice();
+        // The mean velocity (u^A + u^E)/2 and the contact force W Λ.
+        let mean = &mut self.scratch[..n];
+        for ((m, a), e) in mean.iter_mut().zip(u).zip(&self.u_end) {
+            *m = 0.5 * (a + e);
         }
-        // The lock impulses follow from M (u^E - u^A) = hΔt + impulses + WΛ + B P.
+        let mean = &self.scratch[..n];
+        let mut energy = self.record.energy;
+        energy.actuator_work += dt * dot(&self.applied, mean) + dot(&self.impulse, mean);
+        energy.damping_work += dt * dot(&self.damping, mean);
+        for c in 0..k {
+            let rows = c * n..(c + 1) * n;
+            energy.contact_work += self.lambda_n[c] * dot(&self.w_n[rows.clone()], mean)
+                + self.lambda_t[c] * dot(&self.w_t[rows], mean);
+        }
         self.record.locks.clear();
         let locks = actuation.locks.len();
         if locks > 0 {
+            // B P = M (u^E − u^A) − h Δt − impulses − W Λ; reuse `force` for B P.
             for i in 0..n {
-                let mut rhs = -(self.h[i] * dt + self.impulse[i]);
+                let row = &self.mass[i * n..(i + 1) * n];
+                let mut rhs = -self.force[i];
+                for (m, (e, a)) in row.iter().zip(self.u_end.iter().zip(u)) {
+                    rhs += m * (e - a);
+                }
                 for c in 0..k {
-                    rhs -=
-                        self.w_n[(i, c)] * self.lambda_n[c] + self.w_t[(i, c)] * self.lambda_t[c];
+                    rhs -= self.w_n[c * n + i] * self.lambda_n[c]
+                        + self.w_t[c * n + i] * self.lambda_t[c];
                 }
-                for j in 0..n {
-                    rhs += self.mass[(i, j)] * (self.u_end[j] - state.u[j]);
-                }
-                self.scratch2[i] = rhs;
+                self.force[i] = rhs;
             }
-            // B P = rhs; P = (Bᵀ B)⁻¹ Bᵀ rhs (exact, since rhs lies in the range of B).
-            for r in 0..locks {
-                for c in 0..locks {
-                    self.s_lock[(r, c)] = col_dot(&self.b_lock, r, &self.b_lock, c, n);
-                }
-                self.scratch[r] = (0..n).map(|i| self.b_lock[(i, r)] * self.scratch2[i]).sum();
-            }
-            if cholesky_in_place(&mut self.s_lock, locks) {
-                cholesky_solve(&self.s_lock, locks, &mut self.scratch);
-            }
-            for (c, &(body, other)) in actuation.locks.iter().enumerate() {
+            energy.lock_work += dot(&self.force, mean);
+            let impulses = self.locks.impulses(&self.force);
+            for (&(body, other), &impulse) in actuation.locks.iter().zip(impulses) {
                 self.record.locks.push(LockRecord {
                     body,
                     other,
-                    impulse: self.scratch[c],
+                    impulse,
                 });
             }
-            energy.lock_work += (0..n).map(|i| self.scratch2[i] * mean(i)).sum::<f64>();
         }
         self.record.energy = energy;
     }
+}
 
-    fn check_state(&self, state: &State, step: u64, t: f64) -> Result<(), StepError> {
-        if state.q.iter().any(|v| !v.is_finite()) {
-            return Err(StepError::NonFinite { step, t, what: "q" });
+/// Row `i` of a row-major matrix with rows of length `n`: the rows of `w_N`, `w_T` are
+/// those of the closed contacts; the rows of `solved` are `M⁻¹ (h Δt + …)`, then `G w_N` of each
+/// closed contact (`1 + c`), then `G w_T` of each (`1 + k + c`).
+#[inline]
+fn row(data: &[f64], n: usize, i: usize) -> &[f64] {
+    &data[i * n..(i + 1) * n]
+}
+
+/// The velocity locks (brakes) of one step, `Bᵀ u^E = 0` (physics.md §4): row-major
+/// `l × n` buffers with the rows `b_c = ∂(θ_body − θ_other)/∂q` of `Bᵀ` and
+/// `y_c = M⁻¹ b_c`, the factor of `S = Bᵀ M⁻¹ B` and an `l`-vector.
+struct Locks {
+    count: usize,
+    n: usize,
+    b: Vec<f64>,
+    y: Vec<f64>,
+    s: Vec<f64>,
+    s_factor: Factor,
+    p: Vec<f64>,
+}
+
+impl Locks {
+    /// Builds `B`, `Y = M⁻¹ B` (`factor`: that of `M`) and factors `S`; `false` when `S` is
+    /// singular (redundant locks).
+    fn prepare(&mut self, ws: &Workspace, factor: &Factor, locks: &[(usize, usize)]) -> bool {
+        let (n, l) = (self.n, self.count);
+        for (c, &(a, b)) in locks.iter().enumerate() {
+            let row = &mut self.b[c * n..(c + 1) * n];
+            row.fill(0.0);
+            ws.add_torque_to(a, Some(b), 1.0, row);
         }
-        if let Some((index, speed)) = state
-            .u
-            .iter()
-            .map(|v| v.abs())
-            .enumerate()
-            .find(|(_, v)| !v.is_finite() || *v > self.settings.max_speed)
-        {
-            if !speed.is_finite() {
-                return Err(StepError::NonFinite { step, t, what: "u" });
+        self.y[..l * n].copy_from_slice(&self.b[..l * n]);
+        factor.solve(&mut self.y[..l * n]);
+        for r in 0..l {
+            for c in 0..l {
+                self.s[r * l + c] = dot(&self.b[r * n..(r + 1) * n], &self.y[c * n..(c + 1) * n]);
             }
+        }
+        self.s_factor.factor(&self.s, l)
+    }
+
+    /// `x ← x − G B S⁻¹ Bᵀ x` (nothing without locks): applied to `M⁻¹ v` it gives the
+    /// projected `(G − G B S⁻¹ Bᵀ G) v`; applied to `ũ`, the projected `ũ`.
+    fn project(&mut self, x: &mut [f64]) {
+        let (n, l) = (self.n, self.count);
+        if l == 0 {
+            return;
+        }
+        for c in 0..l {
+            self.p[c] = dot(&self.b[c * n..(c + 1) * n], x);
+        }
+        self.s_factor.solve(&mut self.p[..l]);
+        for c in 0..l {
+            axpy(-self.p[c], &self.y[c * n..(c + 1) * n], x);
+        }
+    }
+
+    /// The lock impulses `P = (Bᵀ B)⁻¹ Bᵀ (B P)` from the generalised lock force `B P`
+    /// (exact, since `B P` lies in the range of `B`); overwrites the factor of `S`.
+    fn impulses(&mut self, bp: &[f64]) -> &[f64] {
+        let (n, l) = (self.n, self.count);
+        for r in 0..l {
+            let b_r = &self.b[r * n..(r + 1) * n];
+            for c in 0..l {
+                self.s[r * l + c] = dot(b_r, &self.b[c * n..(c + 1) * n]);
+            }
+            self.p[r] = dot(b_r, bp);
+        }
+        if self.s_factor.factor(&self.s, l) {
+            self.s_factor.solve(&mut self.p[..l]);
+        }
+        &self.p[..l]
+    }
+}
+
+/// A state of the wrong size, a non-finite `q` or `u`, or a speed above `max_speed`, as
+/// the step's error; `start`: the state handed to the step (else the one it produced).
+fn check_state(
+    state: &State,
+    n: usize,
+    step: u64,
+    t: f64,
+    max_speed: f64,
+    start: bool,
+) -> Result<(), StepError> {
+    let (q, u) = (state.q.as_slice(), state.u.as_slice());
+    if q.len() != n || u.len() != n {
+        return Err(StepError::StateSize {
+            step,
+            t,
+            q: q.len(),
+            u: u.len(),
+            dof: n,
+        });
+    }
+    if !state.t.is_finite() {
+        return Err(StepError::NonFinite { step, t, what: "t" });
+    }
+    if q.iter().any(|v| !v.is_finite()) {
+        let what = if start {
+            "q at the start of the step"
+        } else {
+            "q"
+        };
+        return Err(StepError::NonFinite { step, t, what });
+    }
+    for (index, v) in u.iter().enumerate() {
+        if !v.is_finite() {
+            let what = if start {
+                "u at the start of the step"
+            } else {
+                "u"
+            };
+            return Err(StepError::NonFinite { step, t, what });
+        }
+        if v.abs() > max_speed {
             return Err(StepError::Runaway {
                 step,
                 t,
                 index,
-                speed,
-                limit: self.settings.max_speed,
+                speed: v.abs(),
+                limit: max_speed,
             });
         }
-        Ok(())
     }
+    Ok(())
 }

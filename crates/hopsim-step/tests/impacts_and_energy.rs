@@ -105,51 +105,92 @@ fn shapes() -> impl Strategy<Value = Shape> {
             center: Vec2::new(0.0, e * r),
             radius: r
         }),
-        (0.05..0.3f64, 0.2..1.0f64).prop_map(|(a, ratio)| Shape::Ellipse {
-            center: Vec2::zeros(),
+        (0.05..0.3f64, 0.2..1.0f64, -0.05..0.05f64).prop_map(|(a, ratio, c)| Shape::Ellipse {
+            center: Vec2::new(c, -c),
             semi_x: a,
             semi_y: a * ratio
         }),
-        (0.05..0.3f64, 0.3..1.0f64).prop_map(|(w, ratio)| Shape::Polygon {
-            vertices: vec![
-                Vec2::new(-w, -w * ratio),
-                Vec2::new(w, -w * ratio),
-                Vec2::new(w, w * ratio),
-                Vec2::new(-w, w * ratio),
-            ]
+        (0.05..0.3f64, 0.2..1.5f64).prop_map(|(r, half)| Shape::Arc {
+            center: Vec2::new(0.0, 0.5 * r),
+            radius: r,
+            start: -std::f64::consts::FRAC_PI_2 - half,
+            end: -std::f64::consts::FRAC_PI_2 + half,
         }),
+        (
+            prop::collection::vec(0.0..1.0f64, 3..7),
+            0.05..0.3f64,
+            0.3..1.0f64
+        )
+            .prop_filter_map("a proper convex polygon", |(mut f, w, ratio)| {
+                // Vertices on an ellipse at sorted, well-spread angles: convex, CCW.
+                f.sort_by(f64::total_cmp);
+                let angles: Vec<f64> = f.iter().map(|x| x * std::f64::consts::TAU).collect();
+                let spread = angles
+                    .windows(2)
+                    .map(|p| p[1] - p[0])
+                    .chain([angles[0] + std::f64::consts::TAU - angles[angles.len() - 1]])
+                    .all(|g| g > 0.3 && g < 2.8);
+                spread.then(|| Shape::Polygon {
+                    vertices: angles
+                        .iter()
+                        .map(|t| Vec2::new(w * t.cos(), w * ratio * t.sin()))
+                        .collect(),
+                })
+            }),
     ]
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(300))]
-    /// With `ε = 0` no contact step adds kinetic energy (gravity off, any friction).
+    #![proptest_config(ProptestConfig::with_cases(600))]
+    /// With `ε = 0` no contact step adds kinetic energy (gravity off, any friction, any
+    /// shape, random states), on flat ground and at a step's corner.
     #[test]
     fn inelastic_contact_steps_never_gain_energy(
         shape in shapes(),
-        phi in -3.0..3.0f64,
+        on_step in any::<bool>(),
+        x in -0.3..0.3f64,
+        phi in -3.2..3.2f64,
         depth in 0.0..1e-3f64,
         vx in -3.0..3.0f64, vy in -3.0..1.0f64, w in -20.0..20.0f64,
         mu in 0.0..2.0f64,
         dt in prop_oneof![Just(1e-4), Just(1e-3)],
     ) {
-        let mut model = single_body(1.0, 0.01, shape, Terrain::flat(0.0), material(mu, 0.0));
+        let terrain = if on_step { Terrain::step(0.0, 0.05) } else { Terrain::flat(0.0) };
+        let mut model = single_body(1.0, 0.01, shape, terrain, material(mu, 0.0));
         model.gravity = Vec2::zeros();
         let mut st = stepper(&model, dt);
-        // Lowest point of the shape at height -depth at the midpoint.
-        let mut s = state(&[0.0, 0.0, phi], &[vx, vy, w]);
-        st.start(&model, &s);
-        let lowest = (0..model.contacts.len())
-            .filter_map(|i| model.contact_geometry(st.workspace(), i))
-            .map(|g| g.gap)
-            .fold(f64::INFINITY, f64::min);
-        s.q[1] = -lowest - depth - 0.5 * dt * vy;
+        // Lower the shape from above until its smallest gap is -depth at the midpoint.
+        let mut s = state(&[x, 1.0, phi], &[vx, vy, w]);
+        let mut placed = false;
+        for _ in 0..50 {
+            st.start(&model, &s);
+            let lowest = (0..model.contacts.len())
+                .filter_map(|i| model.contact_geometry(st.workspace(), i))
+                .map(|g| g.gap)
+                .fold(f64::INFINITY, f64::min);
+            prop_assume!(lowest.is_finite());
+            // Aim 1e-12 below -depth, so round-off never opens the contact.
+            let target = -depth - 1e-12;
+            if (lowest - target).abs() < 1e-13 {
+                placed = true;
+                break;
+            }
+            s.q[1] -= lowest - target;
+        }
+        // Rarely the smallest gap jumps as a corner contact appears (deep) and disappears.
+        prop_assume!(placed);
+        s.q[0] = x - 0.5 * dt * vx;
+        s.q[1] -= 0.5 * dt * vy;
         s.q[2] = phi - 0.5 * dt * w;
         let before = st.start(&model, &s).energy.kinetic;
         let rec = st.step(&model, &mut s, &Actuation::default()).unwrap();
+        prop_assert!(!rec.contacts.is_empty(), "no contact to test");
         prop_assert!(rec.energy.kinetic <= before * (1.0 + 1e-12) + 1e-12,
             "kinetic {} -> {}", before, rec.energy.kinetic);
         prop_assert!(rec.energy.contact_work <= 1e-12);
+        // Without other forces the kinetic energy changes by the contact work alone.
+        prop_assert!((rec.energy.kinetic - before - rec.energy.contact_work).abs()
+            < 1e-12 * (1.0 + before));
     }
 }
 
@@ -254,12 +295,15 @@ fn rolling_reference(phi0: f64, t_end: f64) -> f64 {
     phi
 }
 
-/// The rolling eccentric disc converges to the rolling ODE at (at least) first order.
+/// The rolling eccentric disc converges to the rolling ODE at the scheme's order: the
+/// midpoint rule with velocity-level contact constraints is first order, so the slope of
+/// `log error` against `log Δt` (least squares over four step sizes) is 1.
 #[test]
 fn rolling_disc_converges_to_the_rolling_ode() {
     let (phi0, t_end) = (0.6, 0.5);
     let reference = rolling_reference(phi0, t_end);
-    let errors: Vec<f64> = [2e-3, 1e-3, 5e-4, 2.5e-4]
+    let steps = [2e-3, 1e-3, 5e-4, 2.5e-4];
+    let errors: Vec<f64> = steps
         .iter()
         .map(|&dt| {
             let model = eccentric_disc(M, I, R, A, material(10.0, 0.0));
@@ -275,10 +319,26 @@ fn rolling_disc_converges_to_the_rolling_ode() {
             (s.q[2] - reference).abs()
         })
         .collect();
-    eprintln!("rolling disc: |φ - φ_ref| at t = {t_end} s for dt = 2e-3 … 2.5e-4: {errors:?}");
-    for pair in errors.windows(2) {
-        let order = (pair[0] / pair[1]).log2();
-        assert!(order > 0.8, "observed order {order} from errors {errors:?}");
-    }
-    assert!(errors[3] < 5e-3, "errors {errors:?}");
+    let (xs, ys): (Vec<f64>, Vec<f64>) = steps
+        .iter()
+        .zip(&errors)
+        .map(|(h, e)| (h.ln(), e.ln()))
+        .unzip();
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (mx, my) = (mean(&xs), mean(&ys));
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    eprintln!(
+        "rolling disc: |φ - φ_ref| at t = {t_end} s for dt = 2e-3 … 2.5e-4: {errors:?}, \
+         observed order {slope:.3}"
+    );
+    assert!(
+        (slope - 1.0).abs() < 0.1,
+        "observed order {slope} from errors {errors:?}"
+    );
+    assert!(errors[3] < 5e-3 * phi0, "errors {errors:?}");
 }

@@ -1,31 +1,161 @@
-//! The stepper allocates nothing per step (counted by a global allocator).
+//! The stepper allocates nothing per step (counted by a global allocator): in stance, in
+//! flight, with brakes, and with several contacts at once (lines, arc ends, a cane, a
+//! polygon's edges and an ellipse at a step's corner).
 
 mod common;
 
-use hopsim_step::{Actuation, TorqueCommand};
+use hopsim_model::{Model, Shape, Terrain, Vec2};
+use hopsim_step::{Actuation, ImpulseCommand, State, Stepper, TorqueCommand};
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations of this thread (tests run in parallel threads of one process).
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // `try_with`: the slot may be gone while a thread shuts down.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
 
+fn allocated() -> usize {
+    ALLOCATIONS.with(|c| c.get())
+}
+
 #[global_allocator]
 static GLOBAL: Counting = Counting;
+
+/// Allocations made by `steps` calls of `step` after `warm_up` calls.
+fn allocations(warm_up: usize, steps: usize, mut step: impl FnMut(usize)) -> usize {
+    for k in 0..warm_up {
+        step(k);
+    }
+    let before = allocated();
+    for k in warm_up..warm_up + steps {
+        step(k);
+    }
+    allocated() - before
+}
+
+/// Allocations in passive steps of `model` from `state` (restarting every 2000 steps),
+/// the most contacts of one step and whether terrain feature `corner` was touched.
+fn passive(model: &Model, state: State, steps: usize, corner: usize) -> (usize, usize, bool) {
+    let mut stepper = common::stepper(model, 1e-4);
+    let mut s = state.clone();
+    stepper.start(model, &s);
+    let act = Actuation::default();
+    let (mut most, mut touched) = (0, false);
+    let count = allocations(2000, steps, |k| {
+        if k % 2000 == 0 {
+            s.q.copy_from(&state.q);
+            s.u.copy_from(&state.u);
+        }
+        let rec = stepper.step(model, &mut s, &act).unwrap();
+        most = most.max(rec.contacts.len());
+        touched |= rec
+            .contacts
+            .iter()
+            .any(|c| model.contacts[c.contact].terrain == corner && c.impulse_normal > 0.0);
+    });
+    (count, most, touched)
+}
+
+#[test]
+fn flight_steps_do_not_allocate() {
+    let model = common::robbit();
+    let state = common::state(&[0.0, 5.0, 0.0, 0.0], &[1.0, 2.0, 3.0, 4.0]);
+    assert_eq!(passive(&model, state, 2000, 0), (0, 0, false));
+}
+
+#[test]
+fn multi_contact_steps_at_a_step_corner_do_not_allocate() {
+    let square = Shape::Polygon {
+        vertices: vec![
+            Vec2::new(-0.05, -0.05),
+            Vec2::new(0.05, -0.05),
+            Vec2::new(0.05, 0.05),
+            Vec2::new(-0.05, 0.05),
+        ],
+    };
+    let ellipse = Shape::Ellipse {
+        center: Vec2::zeros(),
+        semi_x: 0.08,
+        semi_y: 0.04,
+    };
+    // A box coming to rest over the edge of a step (a vertex on the top, its bottom edge on
+    // the corner), an ellipse rolling off the edge.
+    for (shape, x, least) in [(square, 0.01, 2), (ellipse, -0.05, 1)] {
+        let model = common::single_body(
+            1.0,
+            0.002,
+            shape,
+            Terrain::step(0.0, 0.1),
+            common::material(0.6, 0.0),
+        );
+        let state = common::state(&[x, 0.16, 0.0], &[0.3, 0.0, -1.0]);
+        let (count, most, corner) = passive(&model, state, 2000, 3);
+        assert_eq!(count, 0);
+        assert!(
+            most >= least && corner,
+            "{most} contacts at most, corner touched: {corner}"
+        );
+    }
+}
+
+#[test]
+fn two_body_hopper_with_springs_cane_impulses_and_brakes_does_not_allocate() {
+    let model = common::two_body_hopper(0.8);
+    let mut stepper: Stepper = common::stepper(&model, 1e-4);
+    let start = common::two_body_hopper_state(&model, 0.0);
+    let mut state = start.clone();
+    stepper.start(&model, &state);
+    let mut act = Actuation::default();
+    act.torques.reserve(4);
+    act.impulses.reserve(4);
+    act.locks.reserve(4);
+    let count = allocations(3000, 3000, |k| {
+        act.clear();
+        act.torques.push(TorqueCommand {
+            body: 1,
+            reaction: Some(0),
+            torque: if k % 2000 < 1000 { 0.4 } else { -0.4 },
+        });
+        if k % 700 == 350 {
+            act.locks.push((1, 0));
+        }
+        if k % 900 == 100 {
+            act.impulses.push(ImpulseCommand::Point {
+                body: 0,
+                offset: Vec2::new(0.05, 0.0),
+                impulse: Vec2::new(0.2, 0.4),
+            });
+        }
+        for i in 0..model.contacts.len() {
+            if model.contacts[i].shape == 1 {
+                stepper.set_contact_enabled(i, k % 500 < 250);
+            }
+        }
+        stepper.step(&model, &mut state, &act).unwrap();
+    });
+    assert_eq!(count, 0);
+}
 
 #[test]
 fn stepping_robbit_with_contacts_torque_and_a_brake_does_not_allocate() {
@@ -54,9 +184,9 @@ fn stepping_robbit_with_contacts_torque_and_a_brake_does_not_allocate() {
     };
     // Warm up: buffers reach their final size.
     run(1000, &mut state);
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let before = allocated();
     run(2000, &mut state);
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = allocated();
     assert_eq!(
         after - before,
         0,

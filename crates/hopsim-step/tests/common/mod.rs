@@ -130,3 +130,75 @@ pub fn run(
         each(state, rec);
     }
 }
+
+/// A two-body hopper in the spirit of CaneBot (physics.md §5.4): an upper body, a lower
+/// body on a damped relative joint carrying a circular-arc foot and a point cane, two
+/// damped springs across the joint (one an extension spring), friction `mu`.
+pub fn two_body_hopper(mu: f64) -> Model {
+    use hopsim_model::Spring;
+    let lower = Body {
+        name: "lower".into(),
+        mass: 0.8,
+        inertia: 0.006,
+        joint: Some(Joint {
+            parent: 0,
+            pivot_in_parent: Vec2::new(0.0, -0.08),
+            com_in_child: Vec2::new(0.01, -0.06),
+            coordinate: JointCoordinate::Relative,
+            damping: 0.01,
+        }),
+    };
+    let half = std::f64::consts::FRAC_PI_2;
+    let shapes = vec![
+        ShapeInstance {
+            name: "foot".into(),
+            body: 1,
+            shape: Shape::Arc {
+                center: Vec2::new(0.0, 0.05),
+                radius: 0.15,
+                start: -half - 0.8,
+                end: -half + 0.8,
+            },
+        },
+        ShapeInstance {
+            name: "cane".into(),
+            body: 1,
+            shape: Shape::Point {
+                position: Vec2::new(0.14, -0.09),
+            },
+        },
+    ];
+    let spring = |name: &str, x: f64, tension_only: bool| Spring {
+        name: name.into(),
+        body_a: 0,
+        point_a: Vec2::new(x, 0.0),
+        body_b: 1,
+        point_b: Vec2::new(x, -0.02),
+        stiffness: 150.0,
+        rest_length: 0.09,
+        damping: 0.3,
+        tension_only,
+    };
+    Model::new(
+        vec![base("upper", 1.2, 0.01), lower],
+        shapes,
+        Terrain::flat(0.0),
+        vec![spring("front", 0.05, false), spring("back", -0.05, true)],
+        Vec2::new(0.0, -G),
+        material(mu, 0.0),
+    )
+    .unwrap()
+}
+
+/// The two-body hopper standing with its foot's lowest point at height `clearance`.
+pub fn two_body_hopper_state(model: &Model, clearance: f64) -> State {
+    let mut s = state(&[0.0, 0.0, 0.0, 0.0], &[0.0; 4]);
+    let mut ws = hopsim_model::Workspace::new(model);
+    ws.update(model, &s.q, &s.u);
+    let lowest = (0..model.contacts.len())
+        .filter_map(|i| model.contact_geometry(&ws, i))
+        .map(|g| g.gap)
+        .fold(f64::INFINITY, f64::min);
+    s.q[1] = clearance - lowest;
+    s
+}

@@ -1,0 +1,310 @@
+//! Kinematics, mass matrix and forces of a body tree against independent derivations:
+//! finite differences of positions and energies, and Lagrange's equations (physics.md §1).
+
+use hopsim_model::{
+    Body, ContactMaterial, Joint, JointCoordinate, Model, Shape, ShapeInstance, Spring, Terrain,
+    Vec2, Workspace,
+};
+use nalgebra::{DMatrix, DVector};
+use proptest::prelude::*;
+
+/// A three-body tree: a base, a child on a relative joint and a grandchild on an absolute
+/// joint, with offset pivots and centres of mass, joint damping and a damped spring.
+fn tree(offsets: [f64; 6], damping: f64) -> Model {
+    let joint = |parent, pivot: Vec2, com: Vec2, coordinate| Joint {
+        parent,
+        pivot_in_parent: pivot,
+        com_in_child: com,
+        coordinate,
+        damping,
+    };
+    let [a, b, c, d, e, f] = offsets;
+    let bodies = vec![
+        Body {
+            name: "base".into(),
+            mass: 1.3,
+            inertia: 0.02,
+            joint: None,
+        },
+        Body {
+            name: "thigh".into(),
+            mass: 0.7,
+            inertia: 0.011,
+            joint: Some(joint(
+                0,
+                Vec2::new(a, b),
+                Vec2::new(c, -0.1),
+                JointCoordinate::Relative,
+            )),
+        },
+        Body {
+            name: "wheel".into(),
+            mass: 0.4,
+            inertia: 0.005,
+            joint: Some(joint(
+                1,
+                Vec2::new(d, e),
+                Vec2::new(f, 0.02),
+                JointCoordinate::Absolute,
+            )),
+        },
+    ];
+    let spring = Spring {
+        name: "spring".into(),
+        body_a: 0,
+        point_a: Vec2::new(0.05, 0.1),
+        body_b: 2,
+        point_b: Vec2::new(-0.03, 0.01),
+        stiffness: 40.0,
+        rest_length: 0.05,
+        damping,
+        tension_only: false,
+    };
+    let shape = ShapeInstance {
+        name: "foot".into(),
+        body: 1,
+        shape: Shape::Circle {
+            center: Vec2::new(0.0, -0.2),
+            radius: 0.05,
+        },
+    };
+    Model::new(
+        bodies,
+        vec![shape],
+        Terrain::flat(0.0),
+        vec![spring],
+        Vec2::new(0.0, -9.81),
+        ContactMaterial::default(),
+    )
+    .unwrap()
+}
+
+fn evaluate(model: &Model, q: &DVector<f64>, u: &DVector<f64>) -> Workspace {
+    let mut ws = Workspace::new(model);
+    ws.update(model, q, u);
+    ws
+}
+
+/// Stacked body poses `(x_b, y_b, θ_b)`.
+fn poses(model: &Model, q: &DVector<f64>) -> DVector<f64> {
+    let ws = evaluate(model, q, &DVector::zeros(q.len()));
+    DVector::from_iterator(
+        3 * model.bodies.len(),
+        (0..model.bodies.len()).flat_map(|b| [ws.position[b].x, ws.position[b].y, ws.angle[b]]),
+    )
+}
+
+fn jacobian(ws: &Workspace, bodies: usize, n: usize) -> DMatrix<f64> {
+    DMatrix::from_fn(3 * bodies, n, |r, j| {
+        let (x, y, t) = ws.jacobian_rows(r / 3);
+        [x, y, t][r % 3][j]
+    })
+}
+
+fn kinetic(model: &Model, q: &DVector<f64>, u: &DVector<f64>) -> f64 {
+    model.kinetic_energy(&evaluate(model, q, u))
+}
+
+fn potential(model: &Model, q: &DVector<f64>) -> f64 {
+    let ws = evaluate(model, q, &DVector::zeros(q.len()));
+    model.potential_energy(&ws) + model.spring_energy(&ws)
+}
+
+/// Central difference of `f` along `dir`.
+fn along(f: impl Fn(&DVector<f64>) -> f64, x: &DVector<f64>, dir: &DVector<f64>, h: f64) -> f64 {
+    (f(&(x + h * dir)) - f(&(x - h * dir))) / (2.0 * h)
+}
+
+fn unit(n: usize, j: usize) -> DVector<f64> {
+    DVector::from_fn(n, |i, _| if i == j { 1.0 } else { 0.0 })
+}
+
+fn state() -> impl Strategy<Value = ([f64; 6], Vec<f64>, Vec<f64>)> {
+    (
+        prop::array::uniform6(-0.3..0.3f64),
+        prop::collection::vec(-2.0..2.0f64, 5),
+        prop::collection::vec(-3.0..3.0f64, 5),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Jacobian = ∂(poses)/∂q, velocities = J u, bias = J̇ u, also after other updates of
+    /// the same workspace (buffers are reused, not cleared).
+    #[test]
+    fn jacobian_velocities_and_bias_match_finite_differences((offsets, q, u) in state()) {
+        let model = tree(offsets, 0.0);
+        let n = model.dof();
+        let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
+        let mut ws = Workspace::new(&model);
+        ws.update(&model, &(&q * 0.5), &(&u * -2.0));
+        ws.update(&model, &q, &u);
+        let jac = jacobian(&ws, model.bodies.len(), n);
+        let h = 1e-6;
+        for j in 0..n {
+            let e = unit(n, j);
+            let column = (poses(&model, &(&q + h * &e)) - poses(&model, &(&q - h * &e))) / (2.0 * h);
+            prop_assert!((jac.column(j) - column).amax() < 1e-8, "column {j}");
+        }
+        let v = &jac * &u;
+        for b in 0..model.bodies.len() {
+            prop_assert!((ws.velocity[b] - Vec2::new(v[3 * b], v[3 * b + 1])).norm() < 1e-12);
+            prop_assert!((ws.angular_velocity[b] - v[3 * b + 2]).abs() < 1e-12);
+            // J̇ u = d/ds [J(q + s u)] u at s = 0.
+            let j_at = |s: f64| jacobian(&evaluate(&model, &(&q + s * &u), &u), model.bodies.len(), n);
+            let jdot_u = (j_at(h) - j_at(-h)) / (2.0 * h) * &u;
+            let bias = ws.bias(b);
+            prop_assert!((bias - Vec2::new(jdot_u[3 * b], jdot_u[3 * b + 1])).norm() < 1e-6,
+                "bias {bias} vs {}", jdot_u);
+        }
+    }
+
+    /// `M` is symmetric with `½ uᵀ M u` = kinetic energy, and `h` (without damping) is
+    /// Lagrange's right-hand side `-∂V/∂q - (Ṁ u - ∂T/∂q)`: gravity, springs and the
+    /// velocity-product terms of relative joints all checked at once.
+    #[test]
+    fn mass_matrix_and_forces_follow_from_lagranges_equations((offsets, q, u) in state()) {
+        let model = tree(offsets, 0.0);
+        let n = model.dof();
+        let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
+        let ws = evaluate(&model, &q, &u);
+        let mut m = DMatrix::zeros(n, n);
+        model.mass_matrix(&ws, &mut m);
+        prop_assert!((&m - m.transpose()).amax() < 1e-15);
+        prop_assert!((0.5 * u.dot(&(&m * &u)) - model.kinetic_energy(&ws)).abs() < 1e-12);
+        let mut h = DVector::zeros(n);
+        model.forces(&ws, &DVector::zeros(n), &mut h);
+        let step = 1e-6;
+        let m_at = |q: &DVector<f64>| {
+            let mut m = DMatrix::zeros(n, n);
+            model.mass_matrix(&evaluate(&model, q, &u), &mut m);
+            m
+        };
+        let m_dot_u = (m_at(&(&q + step * &u)) - m_at(&(&q - step * &u))) / (2.0 * step) * &u;
+        for j in 0..n {
+            let e = unit(n, j);
+            let dt_dq = along(|q| kinetic(&model, q, &u), &q, &e, step);
+            let dv_dq = along(|q| potential(&model, q), &q, &e, step);
+            let lagrange = -dv_dq - (m_dot_u[j] - dt_dq);
+            prop_assert!((h[j] - lagrange).abs() < 1e-5 * (1.0 + lagrange.abs()),
+                "h[{j}] = {} vs {lagrange}", h[j]);
+        }
+    }
+
+    /// Joint and spring damping only dissipate: `uᵀ h_damping ≤ 0`, and equals
+    /// `-Σ c θ̇_rel² - c_s L̇²`.
+    #[test]
+    fn damping_dissipates((offsets, q, u) in state(), c in 0.0..3.0f64) {
+        let model = tree(offsets, c);
+        let n = model.dof();
+        let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
+        let ws = evaluate(&model, &q, &u);
+        let mut d = DVector::zeros(n);
+        model.damping_forces(&ws, &mut d);
+        let joints: f64 = (1..3)
+            .map(|b| {
+                let p = model.bodies[b].joint.as_ref().unwrap().parent;
+                (ws.angular_velocity[b] - ws.angular_velocity[p]).powi(2)
+            })
+            .sum();
+        let length = |q: &DVector<f64>| {
+            let ws = evaluate(&model, q, &u);
+            let (a, b) = model.spring_ends(&ws, 0);
+            (a - b).norm()
+        };
+        let rate = along(length, &q, &u, 1e-6);
+        let expected = -c * joints - c * rate * rate;
+        prop_assert!((u.dot(&d) - expected).abs() < 1e-6 * (1.0 + expected.abs()));
+        prop_assert!(u.dot(&d) <= 1e-12);
+    }
+}
+
+#[test]
+fn polygons_must_be_convex_and_counter_clockwise() {
+    let body = Body {
+        name: "box".into(),
+        mass: 1.0,
+        inertia: 0.1,
+        joint: None,
+    };
+    let build = |vertices: Vec<Vec2>| {
+        Model::new(
+            vec![body.clone()],
+            vec![ShapeInstance {
+                name: "p".into(),
+                body: 0,
+                shape: Shape::Polygon { vertices },
+            }],
+            Terrain::flat(0.0),
+            vec![],
+            Vec2::new(0.0, -9.81),
+            ContactMaterial::default(),
+        )
+    };
+    let square = vec![
+        Vec2::new(-1.0, -1.0),
+        Vec2::new(1.0, -1.0),
+        Vec2::new(1.0, 1.0),
+        Vec2::new(-1.0, 1.0),
+    ];
+    assert!(build(square.clone()).is_ok());
+    let clockwise: Vec<Vec2> = square.iter().rev().copied().collect();
+    assert!(build(clockwise).is_err());
+    let dart = vec![
+        Vec2::new(-1.0, -1.0),
+        Vec2::new(0.0, 0.0),
+        Vec2::new(1.0, -1.0),
+        Vec2::new(0.0, 1.0),
+    ];
+    assert!(build(dart).is_err());
+    let star: Vec<Vec2> = (0..5)
+        .map(|k| {
+            let a = k as f64 * 4.0 * std::f64::consts::PI / 5.0;
+            Vec2::new(a.cos(), a.sin())
+        })
+        .collect();
+    assert!(
+        build(star).is_err(),
+        "a pentagram turns left at every vertex but winds twice"
+    );
+}
+
+/// Non-finite or negative parameters are build errors, never NaN in a run.
+#[test]
+fn non_finite_parameters_are_build_errors() {
+    let base = tree([0.0; 6], 0.0);
+    let rebuild = |model: &Model| {
+        Model::new(
+            model.bodies.clone(),
+            model.shapes.clone(),
+            model.terrain.clone(),
+            model.springs.clone(),
+            model.gravity,
+            ContactMaterial::default(),
+        )
+    };
+    assert!(rebuild(&base).is_ok());
+    let mut m = base.clone();
+    m.shapes[0].shape = Shape::Circle {
+        center: Vec2::zeros(),
+        radius: f64::NAN,
+    };
+    assert!(rebuild(&m).is_err());
+    let mut m = base.clone();
+    m.shapes[0].shape = Shape::Ellipse {
+        center: Vec2::new(f64::INFINITY, 0.0),
+        semi_x: 1.0,
+        semi_y: 1.0,
+    };
+    assert!(rebuild(&m).is_err());
+    let mut m = base.clone();
+    m.springs[0].stiffness = f64::NAN;
+    assert!(rebuild(&m).is_err());
+    let mut m = base.clone();
+    m.bodies[1].joint.as_mut().unwrap().damping = -1.0;
+    assert!(rebuild(&m).unwrap_err().to_string().contains("damping"));
+    let mut m = base;
+    m.bodies[2].joint.as_mut().unwrap().pivot_in_parent = Vec2::new(f64::NAN, 0.0);
+    assert!(rebuild(&m).is_err());
+}

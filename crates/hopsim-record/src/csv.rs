@@ -1,0 +1,126 @@
+//! [`CsvRecorder`]: the recorded frames as one CSV row each, the events in a second file.
+
+use crate::frame::FrameLayout;
+use crate::geometry::CoordinateUnit;
+use crate::{AtomicFile, Event, Frame, RecordError, Recorder, RecordingInfo};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Energy columns, in the order of [`crate::EnergySample`]'s fields.
+const ENERGY_COLUMNS: [&str; 6] = [
+    "kinetic_J",
+    "potential_J",
+    "spring_J",
+    "actuator_work_J",
+    "dissipated_J",
+    "balance_error_J",
+];
+
+/// Writes `FILE.csv` with one row per recorded frame and `FILE.events.csv` with one row per
+/// event (docs/recording.md), both atomically. Numbers are written in their shortest
+/// round-trip form.
+pub struct CsvRecorder {
+    frames: AtomicFile,
+    events: AtomicFile,
+    layout: FrameLayout,
+}
+
+/// The frame columns: `t_s, step, <q>_<unit>, <q>_dot_<unit>, com_x_m, com_y_m, energies,
+/// actuator_torque_Nm`.
+pub(crate) fn frame_columns(info: &RecordingInfo) -> Vec<String> {
+    let mut columns = vec!["t_s".to_string(), "step".to_string()];
+    let units = || {
+        info.coordinates
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n, CoordinateUnit::of(i)))
+    };
+    columns.extend(units().map(|(n, unit)| format!("{n}_{}", unit.position())));
+    columns.extend(units().map(|(n, unit)| format!("{n}_dot_{}", unit.velocity())));
+    columns.extend(["com_x_m", "com_y_m"].map(String::from));
+    columns.extend(ENERGY_COLUMNS.map(String::from));
+    columns.push("actuator_torque_Nm".into());
+    columns
+}
+
+/// `field` quoted if it holds a comma, quote or line break (RFC 4180).
+fn quoted(field: &str) -> std::borrow::Cow<'_, str> {
+    if field.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", field.replace('"', "\"\"")).into()
+    } else {
+        field.into()
+    }
+}
+
+impl CsvRecorder {
+    /// The events file of a frames file: `run.csv` → `run.events.csv`.
+    pub fn events_path(path: &Path) -> PathBuf {
+        let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+        path.with_file_name(format!("{stem}.events.csv"))
+    }
+
+    /// Starts `path` and its events file (both written under temporary names until `finish`).
+    pub fn create(path: &Path, info: &RecordingInfo) -> Result<Self, RecordError> {
+        let mut frames = AtomicFile::create(path)?;
+        let events_path = Self::events_path(path);
+        let mut events = AtomicFile::create(&events_path)?;
+        let header: Vec<_> = frame_columns(info)
+            .iter()
+            .map(|c| quoted(c).into_owned())
+            .collect();
+        writeln!(frames, "{}", header.join(",")).map_err(|e| RecordError::io(path, e))?;
+        writeln!(events, "t_s,step,kind,details").map_err(|e| RecordError::io(&events_path, e))?;
+        Ok(Self {
+            frames,
+            events,
+            layout: FrameLayout::of(info),
+        })
+    }
+}
+
+impl Recorder for CsvRecorder {
+    fn frame(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
+        self.layout
+            .check(frame)
+            .map_err(|m| RecordError::format(self.frames.path(), m))?;
+        let e = &frame.energy;
+        let tail = [
+            e.kinetic,
+            e.potential,
+            e.spring,
+            e.actuator_work,
+            e.dissipated,
+            e.balance_error,
+            frame.actuator_torque,
+        ];
+        let w = &mut self.frames;
+        let mut row = || -> std::io::Result<()> {
+            write!(w, "{:?},{}", frame.t, frame.step)?;
+            for x in frame.q.iter().chain(frame.u).chain(&frame.com).chain(&tail) {
+                write!(w, ",{x:?}")?;
+            }
+            writeln!(w)
+        };
+        let written = row();
+        written.map_err(|e| RecordError::io(self.frames.path(), e))
+    }
+
+    fn event(&mut self, event: &Event) -> Result<(), RecordError> {
+        let details = event.kind.to_string();
+        writeln!(
+            self.events,
+            "{:?},{},{},{}",
+            event.t,
+            event.step,
+            event.kind.name(),
+            quoted(&details)
+        )
+        .map_err(|e| RecordError::io(self.events.path(), e))
+    }
+
+    fn finish(self: Box<Self>) -> Result<(), RecordError> {
+        // The events first: the frames file appearing means both are complete.
+        self.events.commit()?;
+        self.frames.commit()
+    }
+}

@@ -1,0 +1,278 @@
+//! Robbit (physics.md §5.3) through the whole run loop: scene file, momentum-impulse
+//! controller, brakes, flight detection and summary.
+
+use hopsim_record::EventKind;
+use hopsim_scene::Scene;
+use hopsim_sim::{Observer, RunError, RunOptions, Simulation, StepView, Summary};
+use hopsim_step::{ImpulseTrace, TraceTolerance};
+use std::path::{Path, PathBuf};
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+fn scene(name: &str) -> Scene {
+    hopsim_scene::load(&repo(&format!("scenes/{name}")), &[]).expect("bundled scene loads")
+}
+
+fn run(scene: &Scene, observer: &mut dyn Observer) -> Summary {
+    hopsim_sim::run(scene, &RunOptions::default(), observer).expect("run completes")
+}
+
+/// Velocities before each step, to look at what a step changed.
+#[derive(Default)]
+struct Previous {
+    q: Vec<f64>,
+    u: Vec<f64>,
+}
+
+/// At each brake: the rates are equal after it; the flywheel's angular momentum changes
+/// by exactly the logged impulse; the robot's total angular momentum about its centre of
+/// mass changes by exactly the moment of the logged contact percussions; and a brake
+/// whose step carries no contact percussion transfers exactly the stored impulse
+/// `ζ = I_S I_R/(I_S + I_R)(ψ̇ − φ̇)` of physics.md [5.7-5.9].
+struct BrakeCheck {
+    prev: Previous,
+    dt: f64,
+    inertia: (f64, f64),
+    brakes: usize,
+    free_brakes: usize,
+    failures: Vec<String>,
+}
+
+impl Observer for BrakeCheck {
+    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        let (q, u) = (v.state.q.as_slice(), v.state.u.as_slice());
+        if let Some(lock) = v.record.locks.first() {
+            let (i_s, i_r) = self.inertia;
+            let (qa, ua) = (&self.prev.q, &self.prev.u);
+            self.brakes += 1;
+            let t = v.state.t;
+            let mut fail = |what: String| self.failures.push(format!("t = {t:.4}: {what}"));
+            if (u[2] - u[3]).abs() > 1e-9 {
+                fail(format!(
+                    "rates differ after the brake: {} vs {}",
+                    u[2], u[3]
+                ));
+            }
+            let flywheel_change = i_r * (u[3] - ua[3]);
+            if (flywheel_change + lock.impulse).abs() > 1e-12 {
+                fail(format!(
+                    "flywheel momentum change {flywheel_change} ≠ −{}",
+                    lock.impulse
+                ));
+            }
+            // Moments of the contact percussions about the CoM at the midpoint q^M.
+            let com = [qa[0] + 0.5 * self.dt * ua[0], qa[1] + 0.5 * self.dt * ua[1]];
+            let moment: f64 = v
+                .record
+                .contacts
+                .iter()
+                .map(|c| {
+                    let r = [c.point.x - com[0], c.point.y - com[1]];
+                    let t = [c.normal.y, -c.normal.x];
+                    let f = [
+                        c.normal.x * c.impulse_normal + t[0] * c.impulse_tangent,
+                        c.normal.y * c.impulse_normal + t[1] * c.impulse_tangent,
+                    ];
+                    r[0] * f[1] - r[1] * f[0]
+                })
+                .sum();
+            let total_change = i_s * (u[2] - ua[2]) + flywheel_change;
+            if (total_change - moment).abs() > 1e-12 {
+                fail(format!(
+                    "angular momentum change {total_change} ≠ contact moment {moment}"
+                ));
+            }
+            let event = v.events.iter().find_map(|e| match e.kind {
+                EventKind::Brake { impulse } => Some(impulse),
+                _ => None,
+            });
+            if event != Some(lock.impulse.abs()) {
+                fail(format!(
+                    "brake event {event:?} ≠ logged impulse {}",
+                    lock.impulse
+                ));
+            }
+            if v.record.contacts.iter().all(|c| c.impulse_normal == 0.0) {
+                self.free_brakes += 1;
+                let zeta = i_s * i_r / (i_s + i_r) * (ua[3] - ua[2]);
+                if (lock.impulse.abs() - zeta).abs() > 1e-12 * zeta {
+                    fail(format!(
+                        "free brake transferred {} ≠ stored ζ {zeta}",
+                        lock.impulse
+                    ));
+                }
+            }
+        }
+        self.prev.q.clear();
+        self.prev.q.extend_from_slice(q);
+        self.prev.u.clear();
+        self.prev.u.extend_from_slice(u);
+        Ok(())
+    }
+}
+
+#[test]
+fn brakes_exchange_angular_momentum_exactly() {
+    let scene = scene("robbit.toml");
+    let m = &scene.model;
+    let mut check = BrakeCheck {
+        prev: Previous {
+            q: scene.initial.q.as_slice().to_vec(),
+            u: scene.initial.u.as_slice().to_vec(),
+        },
+        dt: scene.settings.dt,
+        inertia: (m.bodies[0].inertia, m.bodies[1].inertia),
+        brakes: 0,
+        free_brakes: 0,
+        failures: Vec::new(),
+    };
+    run(&scene, &mut check);
+    assert!(check.failures.is_empty(), "{}", check.failures.join("\n"));
+    assert!(check.brakes >= 10, "only {} brakes in 20 s", check.brakes);
+    assert!(
+        check.free_brakes >= 1,
+        "no brake without contact percussion to compare with ζ"
+    );
+}
+
+/// Take-offs, and the brakes before them.
+#[derive(Default)]
+struct GaitLog {
+    brake_steps: Vec<u64>,
+    takeoff_steps: Vec<u64>,
+}
+
+impl Observer for GaitLog {
+    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        for e in v.events {
+            match e.kind {
+                EventKind::Brake { .. } => self.brake_steps.push(e.step),
+                EventKind::TakeOff => self.takeoff_steps.push(e.step),
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}
+
+/// From rest, 20 s of the default scene: forward motion, flight phases, each started by a
+/// brake (Robbit has no other way to leave the ground), no LCP failure, penetration below
+/// 1 mm and an energy account that closes.
+#[test]
+fn default_scene_reaches_a_forward_hopping_gait() {
+    let scene = scene("robbit.toml");
+    let mut log = GaitLog::default();
+    let s = run(&scene, &mut log);
+    eprintln!(
+        "default scene: {:.4} m/s over the last {} s, {} hops, {} brakes, {:.3e} m max penetration",
+        s.mean_speed_mps,
+        s.speed_window_s,
+        s.hops,
+        log.brake_steps.len(),
+        s.max_penetration_m
+    );
+    assert!(s.mean_speed_mps > 0.0, "mean speed {}", s.mean_speed_mps);
+    assert!(s.distance_m > 0.0);
+    assert!(s.hops >= 3, "{} hops", s.hops);
+    assert_eq!(s.hops as usize, log.takeoff_steps.len());
+    for &takeoff in &log.takeoff_steps {
+        let caused = log
+            .brake_steps
+            .iter()
+            .any(|&b| b <= takeoff && takeoff - b <= 5);
+        assert!(
+            caused,
+            "take-off at step {takeoff} without a brake just before it"
+        );
+    }
+    assert_eq!(s.lcp.failures, 0);
+    assert!(
+        s.max_penetration_m < 1e-3,
+        "penetration {} m",
+        s.max_penetration_m
+    );
+    assert!(
+        s.energy.max_abs_balance_error < 1e-9,
+        "{}",
+        s.energy.max_abs_balance_error
+    );
+    let robbit = s.robbit.expect("Robbit figures in the summary");
+    assert!(robbit.brakes_per_s > 0.0 && robbit.impulse_per_distance > 0.0);
+    assert_eq!(robbit.cube_baseline.len(), 2);
+}
+
+/// The disc and both ellipses hop forward under the shape comparison's controller
+/// (T = 0.38 N m, ζ0 = 0.052 N m s): forward progress and at least one hop every 2 s.
+#[test]
+fn shape_variants_all_hop_forward() {
+    for name in [
+        "robbit-disc.toml",
+        "robbit-ellipse-wide.toml",
+        "robbit-ellipse-narrow.toml",
+    ] {
+        let scene = scene(name);
+        let s = run(&scene, &mut ());
+        eprintln!(
+            "{name}: {:.4} m/s, {} hops, {:.4} m/hop, {:.3e} m max penetration",
+            s.mean_speed_mps, s.hops, s.distance_per_hop_m, s.max_penetration_m
+        );
+        assert!(
+            s.mean_speed_mps > 0.0,
+            "{name}: mean speed {}",
+            s.mean_speed_mps
+        );
+        assert!(
+            s.hops as f64 >= s.duration_s / 2.0,
+            "{name}: {} hops",
+            s.hops
+        );
+        assert_eq!(s.lcp.failures, 0, "{name}");
+    }
+}
+
+/// Collects the contact and brake impulses of the first `steps` steps.
+struct TraceFirst {
+    steps: u64,
+    trace: ImpulseTrace,
+}
+
+impl Observer for TraceFirst {
+    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        if v.record.step <= self.steps {
+            self.trace.push_record(v.model, v.record);
+        }
+        Ok(())
+    }
+}
+
+/// Regression on contact impulses: the brake and contact percussions of the default
+/// scene's first second, against `tests/golden/robbit_first_second.csv` (tolerance:
+/// `TraceTolerance::default()`; regenerate deliberately with `HOPSIM_BLESS=1`).
+#[test]
+fn golden_brake_and_contact_impulses_of_the_first_second() {
+    let scene = scene("robbit.toml");
+    let steps = (1.0 / scene.settings.dt).round() as u64;
+    let mut sim = Simulation::new(&scene);
+    let mut obs = TraceFirst {
+        steps,
+        trace: ImpulseTrace::default(),
+    };
+    for _ in 0..steps {
+        sim.step(&mut obs).unwrap();
+    }
+    assert!(obs
+        .trace
+        .samples
+        .iter()
+        .any(|s| s.channel.starts_with("lock:")));
+    obs.trace
+        .check_golden(
+            &repo("tests/golden/robbit_first_second.csv"),
+            TraceTolerance::default(),
+        )
+        .unwrap();
+}

@@ -1,0 +1,87 @@
+//! The energy ledger closes (physics.md §6) over a long run with every kind of flow: a
+//! two-body hopper with a relative joint, damped springs (one an extension spring), joint
+//! damping, motor torque pulses, applied impulses, a brake and frictional contacts that
+//! switch on and off (a cane).
+
+mod common;
+use common::*;
+use hopsim_model::Vec2;
+use hopsim_step::{Actuation, ImpulseCommand, TorqueCommand};
+
+/// Largest |balance error| over the run and the size of the flows at its end, J.
+fn run_hopper(dt: f64, duration: f64) -> (f64, f64, usize, usize) {
+    let model = two_body_hopper(0.8);
+    let mut st = stepper(&model, dt);
+    let mut s = two_body_hopper_state(&model, 0.02);
+    st.start(&model, &s);
+    let cane: Vec<usize> = (0..model.contacts.len())
+        .filter(|&i| model.contacts[i].shape == 1)
+        .collect();
+    let mut act = Actuation::default();
+    let (mut max_error, mut locks, mut contact_steps) = (0.0f64, 0, 0);
+    let every = |period: f64, t: f64| {
+        ((t / dt).round() as u64).is_multiple_of((period / dt).round() as u64)
+    };
+    for _ in 0..(duration / dt).round() as usize {
+        act.clear();
+        let phase = s.t % 0.3;
+        let torque = if phase < 0.1 {
+            0.4
+        } else if phase < 0.2 {
+            -0.4
+        } else {
+            0.0
+        };
+        act.torques.push(TorqueCommand {
+            body: 1,
+            reaction: Some(0),
+            torque,
+        });
+        if every(0.45, s.t) && s.t > 0.0 {
+            act.locks.push((1, 0));
+        }
+        if every(0.6, s.t) && s.t > 0.0 {
+            act.impulses.push(ImpulseCommand::Point {
+                body: 0,
+                offset: Vec2::new(0.05, 0.0),
+                impulse: Vec2::new(0.3, 0.5),
+            });
+        }
+        let cane_out = (s.t % 0.5) < 0.25;
+        for &i in &cane {
+            st.set_contact_enabled(i, cane_out);
+        }
+        let rec = st.step(&model, &mut s, &act).expect("step");
+        locks += rec.locks.len();
+        contact_steps += usize::from(rec.in_contact());
+        max_error = max_error.max(rec.energy.balance_error().abs());
+    }
+    let e = st.record().energy;
+    let flows = e.actuator_work.abs() + e.dissipated().abs();
+    assert!(e.damping_work < 0.0 && e.lock_work < 0.0 && e.contact_work < 0.0);
+    (max_error, flows, locks, contact_steps)
+}
+
+/// The account closes to the scheme's error, which shrinks with `Δt`.
+#[test]
+fn energy_balance_closes_over_a_long_two_body_run() {
+    let duration = 4.0;
+    let (coarse, flows, locks, contacts) = run_hopper(2e-4, duration);
+    let (fine, _, _, _) = run_hopper(1e-4, duration);
+    eprintln!(
+        "two-body hopper, {duration} s: max |balance error| {coarse:.3e} J (Δt = 2e-4), \
+         {fine:.3e} J (Δt = 1e-4), flows {flows:.3} J, {locks} brake steps, {contacts} steps in contact"
+    );
+    assert!(
+        locks >= 8 && contacts > 1000,
+        "{locks} locks, {contacts} contact steps"
+    );
+    assert!(
+        coarse < 1e-3 * flows,
+        "balance error {coarse} vs flows {flows}"
+    );
+    assert!(
+        fine < 0.7 * coarse,
+        "balance error did not shrink with Δt: {coarse} → {fine}"
+    );
+}

@@ -1,0 +1,236 @@
+//! `hopsim run`, `hopsim scene check` and `hopsim sweep` as a user runs them: outputs,
+//! summaries, exit codes and messages.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn hopsim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hopsim"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("hopsim runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn run_writes_every_output_and_a_complete_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).display().to_string();
+    let out = hopsim(&[
+        "run",
+        "scenes/robbit.toml",
+        "--duration",
+        "1.5",
+        "--mcap",
+        &p("r.mcap"),
+        "--rrd",
+        &p("r.rrd"),
+        "--csv",
+        &p("r.csv"),
+        "--summary",
+        &p("r.json"),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("mean speed") && stdout.contains("LCP"),
+        "{stdout}"
+    );
+    for f in ["r.mcap", "r.rrd", "r.csv", "r.events.csv", "r.json"] {
+        let meta = std::fs::metadata(dir.path().join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        assert!(meta.len() > 0, "{f} is empty");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).unwrap()).unwrap();
+    for key in [
+        "scene",
+        "duration_s",
+        "dt_s",
+        "steps",
+        "distance_m",
+        "mean_speed_mps",
+        "hops",
+        "impulse_per_distance_Ns_per_m",
+        "max_penetration_m",
+        "wall_time_s",
+        "steps_per_s",
+    ] {
+        assert!(json.get(key).is_some(), "summary lacks {key}: {json}");
+    }
+    assert_eq!(json["steps"], 7500);
+    assert!((json["duration_s"].as_f64().unwrap() - 1.5).abs() < 1e-12);
+    for key in ["count", "total_Ns"] {
+        assert!(json["impulses"].get(key).is_some(), "impulses.{key}");
+    }
+    for key in [
+        "kinetic",
+        "potential",
+        "spring",
+        "actuator_work",
+        "dissipated",
+        "balance_error",
+    ] {
+        assert!(json["energy"][key].is_number(), "energy.{key}");
+    }
+    for key in ["solves", "failures", "max_pivots"] {
+        assert!(json["lcp"][key].is_number(), "lcp.{key}");
+    }
+    for key in [
+        "brakes_per_s",
+        "impulse_per_distance_Ns_per_m",
+        "cube_baseline",
+    ] {
+        assert!(json["robbit"].get(key).is_some(), "robbit.{key}");
+    }
+    // The recording stores the scene file so that it can be rerun.
+    let rec = hopsim_record::McapRecording::read(&dir.path().join("r.mcap")).unwrap();
+    let scene = std::fs::read_to_string("scenes/robbit.toml").unwrap();
+    assert_eq!(rec.scene.map(|s| s.text), Some(scene));
+}
+
+#[test]
+fn quiet_prints_nothing() {
+    let out = hopsim(&["run", "scenes/robbit.toml", "--duration", "0.2", "--quiet"]);
+    assert!(out.status.success());
+    assert!(out.stdout.is_empty() && out.stderr.is_empty());
+}
+
+#[test]
+fn an_invalid_scene_exits_2_with_its_location() {
+    let out = hopsim(&["run", "tests/scenes/invalid/negative_mass.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("negative_mass.toml:") && err.contains("bodies[1].mass: expected a positive"),
+        "{err}"
+    );
+    let out = hopsim(&[
+        "run",
+        "scenes/robbit.toml",
+        "--set",
+        "controller.torque=fast",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--set controller.torque=fast"));
+    let out = hopsim(&["run", "scenes/no_such_scene.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("no_such_scene.toml"));
+}
+
+#[test]
+fn a_runaway_state_stops_with_step_and_time_and_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("r.mcap").display().to_string();
+    let summary = dir.path().join("r.json").display().to_string();
+    // The flywheel passes 5 rad/s within a tenth of a second of motor torque.
+    let out = hopsim(&[
+        "run",
+        "scenes/robbit.toml",
+        "--set",
+        "simulation.max_speed=5",
+        "--mcap",
+        &mcap,
+        "--summary",
+        &summary,
+    ]);
+    assert_eq!(out.status.code(), Some(3));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("runaway state") && err.contains("step ") && err.contains("t = "),
+        "{err}"
+    );
+    assert!(
+        files_in(dir.path()).is_empty(),
+        "left {:?}",
+        files_in(dir.path())
+    );
+}
+
+#[test]
+fn scene_check_describes_a_valid_scene_and_rejects_a_broken_one() {
+    let out = hopsim(&["scene", "check", "scenes/robbit.toml"]);
+    assert!(out.status.success());
+    let s = text(&out.stdout);
+    assert!(
+        s.contains("ok") && s.contains("x, y, phi, psi") && s.contains("momentum"),
+        "{s}"
+    );
+    let out = hopsim(&[
+        "scene",
+        "check",
+        "tests/scenes/invalid/unknown_key_typo.toml",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("did you mean 'mass'"));
+}
+
+#[test]
+fn sweep_writes_a_row_per_run_in_grid_order_and_a_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("sweep");
+    let out = hopsim(&[
+        "sweep",
+        "scenes/robbit.toml",
+        "--grid",
+        "controller.torque=0.2,0.3",
+        "--grid",
+        "controller.impulse_limit=0.05:0.06:2",
+        "--grid",
+        "bodies.disc.mass=1.0,-1.0",
+        "--duration",
+        "1",
+        "--out",
+        &out_dir.display().to_string(),
+        "--quiet",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let csv = std::fs::read_to_string(out_dir.join("sweep.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows.len(), 1 + 8, "{csv}");
+    assert!(rows[0].starts_with(
+        "label,controller.torque,controller.impulse_limit,bodies.disc.mass,status,error,"
+    ));
+    // Row-major: the last axis varies fastest; an invalid value is a row with its error.
+    assert!(rows[1].starts_with("grid,0.2,0.05,1,ok,,"), "{}", rows[1]);
+    assert!(
+        rows[2].starts_with("grid,0.2,0.05,-1,error,"),
+        "{}",
+        rows[2]
+    );
+    assert!(rows[2].contains("bodies[0].mass"), "{}", rows[2]);
+    assert!(rows[8].starts_with("grid,0.3,0.06,-1,error"), "{}", rows[8]);
+    for f in ["sweep.png", "sweep.svg"] {
+        assert!(
+            std::fs::metadata(out_dir.join(f)).unwrap().len() > 1000,
+            "{f}"
+        );
+    }
+}
+
+#[test]
+fn help_is_available_for_every_command() {
+    for args in [
+        &["--help"][..],
+        &["run", "--help"],
+        &["sweep", "--help"],
+        &["scene", "check", "--help"],
+        &["compare", "--help"],
+    ] {
+        let out = hopsim(args);
+        assert!(out.status.success(), "{args:?}");
+        assert!(text(&out.stdout).contains("Usage"), "{args:?}");
+    }
+}
