@@ -68,8 +68,11 @@ impl std::str::FromStr for Baseline {
     }
 }
 
-/// The summary quantities a sweep reports, by CSV column name.
-const METRICS: &[(&str, fn(&Summary) -> f64)] = &[
+/// A summary quantity: its CSV column name and how to read it.
+type Metric = (&'static str, fn(&Summary) -> f64);
+
+/// The summary quantities a sweep reports.
+const METRICS: &[Metric] = &[
     ("distance_m", |s| s.distance_m),
     ("mean_speed_mps", |s| s.mean_speed_mps),
     ("hops", |s| s.hops as f64),
@@ -204,28 +207,25 @@ fn speed_against_impulse(scene: &Scene, points: &[SweepPoint]) -> LinePlot {
         "mean speed [m/s]",
     )
     .with_series(Series::points("simulated runs", runs.clone()));
-    let (lo, hi) = runs.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| {
-        (lo.min(p.1), hi.max(p.1))
-    });
-    if lo.is_finite() {
+    if !runs.is_empty() {
+        let hi = runs.iter().map(|p| p.1).fold(0.0, f64::max);
+        // Show the bulk of the runs: up to 1.5 times the 90th percentile of the impulse.
+        let mut xs: Vec<f64> = runs.iter().map(|p| p.0).collect();
+        xs.sort_by(f64::total_cmp);
+        let x_max = 1.5 * xs[(xs.len() * 9 / 10).min(xs.len() - 1)];
         for eps in [0.0, scene.settings.cube_restitution] {
-            let curve: Vec<(f64, f64)> = (0..=60)
-                .map(|i| 0.5 * lo + (1.5 * hi - 0.5 * lo) * i as f64 / 60.0)
+            let curve: Vec<(f64, f64)> = (1..=200)
+                .map(|i| 1.3 * hi * i as f64 / 200.0)
                 .filter_map(|u| {
-                    Some((
-                        CubeBaseline::for_scene(scene, u, eps)?.impulse_per_distance,
-                        u,
-                    ))
+                    let x = CubeBaseline::for_scene(scene, u, eps)?.impulse_per_distance;
+                    (x <= x_max).then_some((x, u))
                 })
                 .collect();
             if !curve.is_empty() {
                 plot = plot.with_series(Series::line(format!("cube, ε = {eps}"), curve));
             }
         }
-        let max_x = runs.iter().map(|p| p.0).fold(0.0, f64::max);
-        plot = plot
-            .with_x_range(0.0, 1.3 * max_x)
-            .with_y_range(0.0, 1.3 * hi);
+        plot = plot.with_x_range(0.0, x_max).with_y_range(0.0, 1.3 * hi);
     }
     plot
 }

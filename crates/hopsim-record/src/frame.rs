@@ -119,6 +119,8 @@ pub enum EventKind {
     },
     /// A switchable shape (the cane) was extended or retracted.
     ShapeSwitch { shape: String, active: bool },
+    /// A contact of a switchable shape (the cane's tip) started carrying load.
+    ShapeContact { contact: String },
     /// An impulse was applied by the controller, N s or N m s.
     AppliedImpulse { magnitude: f64 },
 }
@@ -131,6 +133,7 @@ impl EventKind {
             EventKind::TakeOff => "take_off",
             EventKind::Brake { .. } => "brake",
             EventKind::ShapeSwitch { .. } => "shape_switch",
+            EventKind::ShapeContact { .. } => "shape_contact",
             EventKind::AppliedImpulse { .. } => "applied_impulse",
         }
     }
@@ -140,7 +143,9 @@ impl EventKind {
 impl fmt::Display for EventKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            EventKind::Touchdown { contact } => write!(f, "contact={contact}"),
+            EventKind::Touchdown { contact } | EventKind::ShapeContact { contact } => {
+                write!(f, "contact={contact}")
+            }
             EventKind::TakeOff => Ok(()),
             EventKind::Brake { impulse } => write!(f, "impulse_Nms={impulse:?}"),
             EventKind::ShapeSwitch { shape, active } => {
@@ -227,6 +232,9 @@ mod tests {
             EventKind::ShapeSwitch {
                 shape: "cane".into(),
                 active: true,
+            },
+            EventKind::ShapeContact {
+                contact: "cane/terrain0".into(),
             },
             EventKind::AppliedImpulse { magnitude: 1.0 },
         ];

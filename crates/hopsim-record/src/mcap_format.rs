@@ -236,14 +236,25 @@ fn event_schema() -> Value {
             "kind",
             json!({
                 "type": "string",
-                "enum": ["touchdown", "take_off", "brake", "shape_switch", "applied_impulse"],
+                "enum": [
+                    "touchdown",
+                    "take_off",
+                    "brake",
+                    "shape_switch",
+                    "shape_contact",
+                    "applied_impulse"
+                ],
             }),
         )])),
     );
     let optional = properties([
         (
             "contact",
-            json!({ "type": "string", "description": "touchdown: the contact that landed" }),
+            json!({
+                "type": "string",
+                "description": "touchdown: the contact that landed; shape_contact: the \
+                                switchable shape's contact that started carrying load"
+            }),
         ),
         (
             "impulse_Nms",

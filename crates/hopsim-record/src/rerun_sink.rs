@@ -510,6 +510,7 @@ fn event_color(kind: &EventKind) -> Color {
         EventKind::TakeOff => Color::from_rgb(31, 119, 180),
         EventKind::Brake { .. } => Color::from_rgb(214, 39, 40),
         EventKind::ShapeSwitch { .. } => Color::from_rgb(148, 103, 189),
+        EventKind::ShapeContact { .. } => Color::from_rgb(140, 86, 75),
         EventKind::AppliedImpulse { .. } => Color::from_rgb(255, 127, 14),
     }
 }

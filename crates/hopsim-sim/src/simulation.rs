@@ -5,7 +5,7 @@ use crate::{FlightEvent, FlightTracker, Observer, StepView, Summary};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{Event, EventKind, RecordError};
 use hopsim_scene::Scene;
-use hopsim_step::{Actuation, State, StepError, Stepper};
+use hopsim_step::{Actuation, ContactState, State, StepError, Stepper};
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::time::Instant;
 
@@ -38,6 +38,11 @@ pub struct Simulation<'s> {
     shapes_active: Vec<bool>,
     flight: FlightTracker,
     loaded: bool,
+    /// Per contact: whether it belongs to a switchable shape (a cane).
+    switchable_contact: Vec<bool>,
+    /// Per contact: whether it carried load in the previous step, and in this one.
+    was_loaded: Vec<bool>,
+    loaded_now: Vec<bool>,
 }
 
 impl<'s> Simulation<'s> {
@@ -64,6 +69,13 @@ impl<'s> Simulation<'s> {
             shapes_active,
             flight: FlightTracker::default(),
             loaded: true,
+            switchable_contact: model
+                .contacts
+                .iter()
+                .map(|c| scene.switchable.contains(&c.shape))
+                .collect(),
+            was_loaded: vec![false; model.contacts.len()],
+            loaded_now: vec![false; model.contacts.len()],
         }
     }
 
@@ -133,6 +145,27 @@ impl<'s> Simulation<'s> {
             });
         }
         self.loaded = record.in_contact();
+        // A switchable shape's contact (the cane's tip) starting to carry load.
+        self.loaded_now.fill(false);
+        for c in record
+            .contacts
+            .iter()
+            .filter(|c| c.state != ContactState::Open)
+        {
+            self.loaded_now[c.contact] = true;
+        }
+        for (i, c) in model.contacts.iter().enumerate() {
+            if self.switchable_contact[i] && self.loaded_now[i] && !self.was_loaded[i] {
+                self.events.push(Event {
+                    t: record.t,
+                    step: record.step,
+                    kind: EventKind::ShapeContact {
+                        contact: c.name.clone(),
+                    },
+                });
+            }
+        }
+        std::mem::swap(&mut self.was_loaded, &mut self.loaded_now);
         let (step, min_gap) = (record.step, record.min_gap);
         match self.flight.update(self.state.t, step, self.loaded, min_gap) {
             Some(FlightEvent::TakeOff { t, step }) => self.events.push(Event {
