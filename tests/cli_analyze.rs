@@ -266,3 +266,182 @@ fn bad_numbers_are_clear_errors_not_panics() {
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
 }
+
+/// `fixed-points --json` on the default 30 × 30 grid: every point is a fixed point with
+/// finite fields or has a reason; stability is max |λ| < 1; a stable point exists.
+#[test]
+fn fixed_points_default_grid_json() {
+    let v = json(&["analyze", "fixed-points", "--json"]);
+    assert_eq!(v["analysis"], "fixed-points");
+    assert_eq!(v["mode"], "grid");
+    let points = v["points"].as_array().expect("points");
+    assert_eq!(points.len(), 900);
+    assert_eq!(v["points_total"], 900);
+    let found = v["fixed_points"].as_u64().unwrap();
+    let stable = v["stable_points"].as_u64().unwrap();
+    assert_eq!(found + v["no_fixed_point"].as_u64().unwrap(), 900);
+    assert!(
+        stable > 0,
+        "no stable point in the default grid: {}",
+        v["no_fixed_point_reasons"]
+    );
+    let mut counted = 0;
+    for q in points {
+        finite(q, "takeoff_angle_rad");
+        assert!(finite(q, "takeoff_energy_j") >= 0.0);
+        assert!(finite(q, "takeoff_rate_rad_s") <= 0.0, "forward rolling");
+        if q["fixed_point"] == true {
+            assert!(finite(q, "torque_nm") > 0.0 && finite(q, "impulse_limit_nms") > 0.0);
+            let moduli: Vec<f64> = q["eigenvalues"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|l| finite(l, "modulus"))
+                .collect();
+            let max = finite(q, "max_abs_eigenvalue");
+            assert_eq!(max, moduli[0].max(moduli[1]));
+            assert_eq!(q["stable"], max < 1.0);
+            assert!(finite(q, "residual_rad") <= 1e-9);
+            assert!(finite(q, "speed_mps") > 0.0);
+            counted += usize::from(q["stable"] == true);
+        } else {
+            assert!(q["reason"].as_str().is_some_and(|r| !r.is_empty()), "{q}");
+        }
+    }
+    assert_eq!(counted as u64, stable);
+    let best = &v["most_stable"];
+    assert!(finite(best, "max_abs_eigenvalue") < 1.0);
+}
+
+/// One section state with `--simulate`: the fixed point's fields, and the time-stepper
+/// from rest converging to it (the tolerances are reported with the verdict).
+#[test]
+fn fixed_points_single_point_simulates() {
+    let v = json(&[
+        "analyze",
+        "fixed-points",
+        "--takeoff-angle",
+        "-0.8",
+        "--takeoff-energy",
+        "0.08",
+        "--simulate",
+        "--json",
+    ]);
+    assert_eq!(v["mode"], "point");
+    assert_eq!(v["fixed_point"], true);
+    assert_eq!(v["takeoff_angle_rad"], -0.8);
+    assert_eq!(v["takeoff_energy_j"], 0.08);
+    assert!(finite(&v, "max_abs_eigenvalue") < 1.0);
+    let sim = &v["simulation"];
+    assert_eq!(sim["converged"], true, "{sim}");
+    assert!(finite(sim, "max_angle_error_rad") <= finite(sim, "angle_tolerance_rad"));
+    assert!(finite(sim, "max_rate_error_rad_s") <= finite(sim, "rate_tolerance_rad_s"));
+    let predicted = finite(&sim["predicted"], "speed_mps");
+    let simulated = finite(&sim["simulated"], "speed_mps");
+    assert!((predicted - simulated).abs() < 0.02 * predicted);
+    assert_eq!(finite(sim, "dt_s"), 2e-4);
+}
+
+#[test]
+fn fixed_points_out_dir_and_overrides() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid_dir = dir.path().join("fp");
+    let out = hopsim(&[
+        "analyze",
+        "fixed-points",
+        "--grid",
+        "4x3",
+        "--angle-min",
+        "-1.2",
+        "--angle-max",
+        "-0.3",
+        "--body-mass",
+        "1.0",
+        "--touchdown",
+        "free",
+        "--out",
+        grid_dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_files(
+        &grid_dir,
+        &[
+            "fixed_points.csv",
+            "fixed_points_torque.png",
+            "fixed_points_torque.svg",
+            "fixed_points_impulse_limit.png",
+            "fixed_points_impulse_limit.svg",
+            "fixed_points_max_eigenvalue.png",
+            "fixed_points_max_eigenvalue.svg",
+        ],
+    );
+    let csv = std::fs::read_to_string(grid_dir.join("fixed_points.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 1 + 12);
+    assert!(lines[0].starts_with("takeoff_angle_rad,takeoff_energy_j,"));
+    for column in [
+        "torque_nm",
+        "impulse_limit_nms",
+        "max_abs_lambda",
+        "stable",
+        "reason",
+    ] {
+        assert!(lines[0].split(',').any(|c| c == column), "{column}");
+    }
+    let v = json(&[
+        "analyze",
+        "fixed-points",
+        "--angle-points",
+        "2",
+        "--energy-points",
+        "1",
+        "--energy-min",
+        "0.05",
+        "--eccentricity",
+        "0.08",
+        "--touchdown",
+        "free",
+        "--json",
+    ]);
+    assert_eq!(v["parameters"]["eccentricity_m"], 0.08);
+    assert_eq!(v["parameters"]["flywheel_at_touchdown"], "free");
+    assert_eq!(v["points_total"], 2);
+    assert_eq!(v["energies_j"][0], 0.05);
+}
+
+#[test]
+fn fixed_points_bad_input_exits_2() {
+    for args in [
+        &["analyze", "fixed-points", "--grid", "0x5"][..],
+        &["analyze", "fixed-points", "--grid", "big"],
+        &["analyze", "fixed-points", "--eccentricity", "0.3"],
+        &["analyze", "fixed-points", "--flywheel-inertia", "-1"],
+        &[
+            "analyze",
+            "fixed-points",
+            "--angle-min",
+            "0.2",
+            "--angle-max",
+            "-0.2",
+        ],
+        &["analyze", "fixed-points", "--takeoff-angle", "-0.5"],
+        &[
+            "analyze",
+            "fixed-points",
+            "--takeoff-angle",
+            "-0.5",
+            "--takeoff-energy",
+            "-1",
+        ],
+    ] {
+        let out = hopsim(args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error:"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+}

@@ -4,7 +4,8 @@ use anyhow::Context;
 use clap::Args;
 use hopsim_record::{CsvRecorder, McapRecorder, RecorderSet, RerunRecorder};
 use hopsim_scene::Override;
-use hopsim_sim::{recording_info, RecordingObserver, RunOptions};
+use hopsim_sim::{recording_info, RecordingObserver, RunError, RunOptions};
+use hopsim_step::StepError;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -89,6 +90,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         Err(err) => {
             // Recorders dropped unfinished leave no output file behind.
             eprintln!("error: {}: {err}", scene.path.display());
+            if let RunError::Step(StepError::Runaway { index, .. }) = &err {
+                let name = scene.coordinates.get(*index).map_or("?", String::as_str);
+                eprintln!(
+                    "note: u_{index} is the rate of '{name}' (simulation.max_speed sets the limit)"
+                );
+            }
             if observer.records_anything() {
                 eprintln!("error: no recording was written: the run did not finish");
             }

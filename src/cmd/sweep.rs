@@ -127,6 +127,13 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
         Err(code) => return Ok(code),
     };
     let mut jobs = grid_jobs(&args.grid);
+    // A misspelt grid key would fail every run: check the first point once.
+    let mut first = extra.clone();
+    first.extend(jobs[0].overrides.iter().cloned());
+    if let Err(code) = args.scene.load(&first) {
+        eprintln!("error: the grid's first point is invalid (see above); nothing was run");
+        return Ok(code);
+    }
     jobs.extend(args.baselines.iter().map(|b| SweepJob {
         label: b.name.clone(),
         values: Vec::new(),

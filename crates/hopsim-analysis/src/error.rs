@@ -35,6 +35,9 @@ pub enum AnalysisError {
         #[source]
         source: std::io::Error,
     },
+    /// A time-stepper run (a cross-check of a reduced model) failed.
+    #[error("time-stepper: {0}")]
+    Stepper(String),
     /// Drawing a plot failed (e.g. no usable font on the machine).
     #[error("cannot draw {path}: {message}")]
     Plot {

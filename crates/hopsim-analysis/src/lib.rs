@@ -4,6 +4,10 @@
 //! * [`template`]: the four-map impulsive eccentric-wheel template (§5.1).
 //! * [`obstacle`]: energy to overcome a step by rolling, trivial and rotational hopping (§5.2).
 //! * [`impulsive_wheel`]: the take-off-angle return map of the impulsive wheel (§5.5).
+//! * [`robbit`]: Robbit's hopping cycle as a return map on the section before the brake
+//!   (§5.3); [`fixed_points`]: its fixed-point controls `β* = (T*, ζ0*)` and their stability
+//!   over a take-off angle × energy grid; [`robbit_stepper`]: the same robot in the
+//!   time-stepper, to cross-check a predicted gait.
 //! * [`plot`]: line plots, heatmaps and category maps as PNG + SVG.
 //! * [`output`]: atomic file writes and CSV tables; [`progress`]: parallel grids with a
 //!   progress bar; [`numerics`]: root finding, minimisation, Dormand–Prince.
@@ -11,6 +15,7 @@
 //! `docs/analysis.md` documents every equation, derivation and sign convention.
 
 pub mod error;
+pub mod fixed_points;
 pub mod impact;
 pub mod impulsive_wheel;
 pub mod numerics;
@@ -18,6 +23,8 @@ pub mod obstacle;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod robbit;
+pub mod robbit_stepper;
 pub mod template;
 
 pub use error::{AnalysisError, Result};

@@ -1,6 +1,11 @@
 //! Small numerical tools shared by the analyses: a bracketing root finder (Brent), the
-//! first root of a function on an interval (scan + Brent), a golden-section minimiser and
-//! an adaptive Dormand–Prince 5(4) step.
+//! first root of a function on an interval (scan + Brent), a golden-section minimiser,
+//! an adaptive Dormand–Prince 5(4) step and an integrator that stops at an event, a
+//! Levenberg–Marquardt least-squares solver with a finite-difference Jacobian, and the
+//! eigenvalues of a 2 × 2 matrix.
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
 
 /// Brent's method on a bracket `[a, b]` with `f(a)` and `f(b)` of opposite sign (or one of
 /// them zero). Returns `None` without a sign change. `tolerance` is absolute in `x`.
@@ -270,6 +275,303 @@ pub fn logspace(start: f64, end: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Tolerances and step limits of [`integrate_to_event`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OdeSettings {
+    /// Relative tolerance of the Dormand–Prince error estimate.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// First trial step.
+    pub initial_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Largest number of step attempts before giving up.
+    pub max_steps: usize,
+}
+
+/// How [`integrate_to_event`] ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OdeEnd<const N: usize, B> {
+    /// The event function reached zero from below at `t` (or was already ≥ 0 at the start).
+    Event {
+        /// Event time.
+        t: f64,
+        /// State at the event.
+        y: [f64; N],
+    },
+    /// The `accepted` callback asked to stop after an accepted step at `t`.
+    Stopped {
+        /// Time of the accepted step.
+        t: f64,
+        /// What the callback returned.
+        reason: B,
+    },
+    /// `max_steps` step attempts without the event.
+    StepLimit {
+        /// Time reached.
+        t: f64,
+    },
+    /// The state or the error estimate became non-finite at `t`.
+    NonFinite {
+        /// Time reached.
+        t: f64,
+    },
+}
+
+/// Integrates `y' = f(t, y)` from `(t0, y0)` with adaptive Dormand–Prince 5(4) steps until
+/// `event(t, y)` first reaches zero from below; the crossing inside the step is located by
+/// Brent's method on the step size (the fifth-order solution of a shortened step from the
+/// step's start), to `1e-15 · max_step`. An event value ≥ 0 at the start is an event at
+/// `t0`. A crossing and re-crossing within one step is not seen (steps are bounded by
+/// `max_step`). After every accepted step `accepted(t, y)` may return `Some(reason)` to stop.
+pub fn integrate_to_event<const N: usize, B>(
+    f: &impl Fn(f64, &[f64; N]) -> [f64; N],
+    t0: f64,
+    y0: [f64; N],
+    settings: &OdeSettings,
+    event: impl Fn(f64, &[f64; N]) -> f64,
+    mut accepted: impl FnMut(f64, &[f64; N]) -> Option<B>,
+) -> OdeEnd<N, B> {
+    let (mut t, mut y) = (t0, y0);
+    if event(t, &y) >= 0.0 {
+        return OdeEnd::Event { t, y };
+    }
+    let mut h = settings.initial_step.min(settings.max_step);
+    for _ in 0..settings.max_steps {
+        let (y_new, err) = dormand_prince_step(f, t, &y, h);
+        let norm = error_norm(&y, &y_new, &err, settings.rtol, settings.atol);
+        if !norm.is_finite() {
+            return OdeEnd::NonFinite { t };
+        }
+        if norm > 1.0 {
+            h *= (0.9 * norm.powf(-0.2)).max(0.2);
+            continue;
+        }
+        if event(t + h, &y_new) >= 0.0 {
+            let (t_start, y_start) = (t, y);
+            let value = |s: f64| {
+                if s == 0.0 {
+                    event(t_start, &y_start)
+                } else {
+                    event(t_start + s, &dormand_prince_step(f, t_start, &y_start, s).0)
+                }
+            };
+            let s = brent(value, 0.0, h, 1e-15 * settings.max_step).unwrap_or(h);
+            let y_event = dormand_prince_step(f, t_start, &y_start, s).0;
+            return OdeEnd::Event {
+                t: t_start + s,
+                y: y_event,
+            };
+        }
+        t += h;
+        y = y_new;
+        if let Some(reason) = accepted(t, &y) {
+            return OdeEnd::Stopped { t, reason };
+        }
+        h = (h * (0.9 * norm.max(1e-10).powf(-0.2)).min(5.0)).min(settings.max_step);
+    }
+    OdeEnd::StepLimit { t }
+}
+
+/// Settings of [`levenberg_marquardt`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LmSettings {
+    /// Converged when the residual's Euclidean norm is at most this.
+    pub tolerance: f64,
+    /// Largest number of accepted or rejected steps.
+    pub max_iterations: usize,
+    /// Forward-difference step of the Jacobian, relative to `max(|x_j|, 1)`.
+    pub jacobian_step: f64,
+    /// Initial damping `λ` (relative to the diagonal of `JᵀJ`).
+    pub initial_damping: f64,
+}
+
+impl Default for LmSettings {
+    fn default() -> Self {
+        LmSettings {
+            tolerance: 1e-10,
+            max_iterations: 60,
+            jacobian_step: 1e-6,
+            initial_damping: 1e-3,
+        }
+    }
+}
+
+/// Result of [`levenberg_marquardt`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LmResult<const N: usize> {
+    /// Best point found.
+    #[serde(with = "serde_array")]
+    pub x: [f64; N],
+    /// Residual norm there.
+    pub residual_norm: f64,
+    /// Iterations used.
+    pub iterations: usize,
+    /// Residual evaluations used (including the Jacobian's).
+    pub evaluations: usize,
+    /// `residual_norm ≤ tolerance`.
+    pub converged: bool,
+}
+
+mod serde_array {
+    use serde::Serializer;
+    pub fn serialize<S: Serializer, const N: usize>(x: &[f64; N], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(x.iter())
+    }
+}
+
+/// Levenberg–Marquardt for `min ‖r(x)‖²`, `r: ℝᴺ → ℝᴹ` (a square system `M = N` is solved
+/// for `r = 0`, i.e. damped Newton). The Jacobian comes from forward differences (backward
+/// where the forward point is undefined), recomputed after every accepted step; steps solve `(JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr` (Marquardt scaling).
+/// `r` may fail (`None`) at points where it is undefined: such a trial step is rejected
+/// and the damping raised. Returns `None` when `r(x0)` itself fails.
+pub fn levenberg_marquardt<const N: usize, const M: usize>(
+    mut residual: impl FnMut(&[f64; N]) -> Option<[f64; M]>,
+    x0: [f64; N],
+    settings: &LmSettings,
+) -> Option<LmResult<N>> {
+    let norm = |r: &[f64; M]| r.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut x = x0;
+    let mut r = residual(&x).filter(|r| r.iter().all(|v| v.is_finite()))?;
+    let mut evaluations = 1;
+    let mut cost = norm(&r);
+    let mut lambda = settings.initial_damping;
+    let mut iterations = 0;
+    let mut jacobian: Option<DMatrix<f64>> = None;
+    while iterations < settings.max_iterations && cost > settings.tolerance {
+        iterations += 1;
+        let jac = match jacobian.take() {
+            Some(j) => j,
+            None => {
+                let mut j = DMatrix::<f64>::zeros(M, N);
+                for col in 0..N {
+                    let h = settings.jacobian_step * x[col].abs().max(1.0);
+                    let mut shifted = |d: f64| {
+                        let mut xs = x;
+                        xs[col] += d;
+                        evaluations += 1;
+                        residual(&xs).filter(|r| r.iter().all(|v| v.is_finite()))
+                    };
+                    // Forward difference; backward where the forward point is undefined.
+                    let derivative: [f64; M] = if let Some(f) = shifted(h) {
+                        std::array::from_fn(|i| (f[i] - r[i]) / h)
+                    } else if let Some(b) = shifted(-h) {
+                        std::array::from_fn(|i| (r[i] - b[i]) / h)
+                    } else {
+                        return Some(LmResult {
+                            x,
+                            residual_norm: cost,
+                            iterations,
+                            evaluations,
+                            converged: false,
+                        });
+                    };
+                    for (i, d) in derivative.iter().enumerate() {
+                        j[(i, col)] = *d;
+                    }
+                }
+                j
+            }
+        };
+        let jtj = jac.transpose() * &jac;
+        let jtr = jac.transpose() * DVector::from_column_slice(&r);
+        jacobian = Some(jac);
+        let mut a = jtj.clone();
+        for i in 0..N {
+            a[(i, i)] += lambda * jtj[(i, i)].max(1e-12);
+        }
+        let Some(step) = a.lu().solve(&(-jtr)) else {
+            lambda *= 10.0;
+            continue;
+        };
+        let trial: [f64; N] = std::array::from_fn(|i| x[i] + step[i]);
+        evaluations += 1;
+        match residual(&trial).filter(|r| r.iter().all(|v| v.is_finite())) {
+            Some(r_trial) if norm(&r_trial) < cost => {
+                let small = (0..N).all(|i| step[i].abs() <= 1e-15 * x[i].abs().max(1.0));
+                x = trial;
+                r = r_trial;
+                cost = norm(&r);
+                lambda = (lambda / 3.0).max(1e-12);
+                jacobian = None;
+                if small {
+                    break;
+                }
+            }
+            _ => {
+                lambda *= 4.0;
+                if lambda > 1e12 {
+                    break;
+                }
+            }
+        }
+    }
+    Some(LmResult {
+        x,
+        residual_norm: cost,
+        iterations,
+        evaluations,
+        converged: cost <= settings.tolerance,
+    })
+}
+
+/// A complex number `re + i im` (an eigenvalue).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Complex {
+    /// Real part.
+    pub re: f64,
+    /// Imaginary part.
+    pub im: f64,
+}
+
+impl Complex {
+    /// Modulus `|z|`.
+    pub fn modulus(&self) -> f64 {
+        self.re.hypot(self.im)
+    }
+
+    /// Argument `arg z ∈ (−π, π]`.
+    pub fn argument(&self) -> f64 {
+        self.im.atan2(self.re)
+    }
+}
+
+/// Eigenvalues of the real 2 × 2 matrix `[[a, b], [c, d]]` (rows), largest modulus first:
+/// roots of `λ² − tr λ + det = 0`, with the smaller real root taken as `det / λ₁` to avoid
+/// cancellation; a complex pair when `((a − d)/2)² + bc < 0`.
+pub fn eigenvalues_2x2(m: [[f64; 2]; 2]) -> [Complex; 2] {
+    let [[a, b], [c, d]] = m;
+    let half_trace = 0.5 * (a + d);
+    let det = a * d - b * c;
+    let half_diff = 0.5 * (a - d);
+    let disc = half_diff * half_diff + b * c;
+    if disc >= 0.0 {
+        let s = disc.sqrt();
+        let first = half_trace + s.copysign(half_trace);
+        let second = if first == 0.0 {
+            half_trace - s
+        } else {
+            det / first
+        };
+        let (l1, l2) = if first.abs() >= second.abs() {
+            (first, second)
+        } else {
+            (second, first)
+        };
+        [Complex { re: l1, im: 0.0 }, Complex { re: l2, im: 0.0 }]
+    } else {
+        let im = (-disc).sqrt();
+        [
+            Complex { re: half_trace, im },
+            Complex {
+                re: half_trace,
+                im: -im,
+            },
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -305,5 +607,110 @@ mod tests {
             t += h;
         }
         assert!((y[0] - 1f64.cos()).abs() < 1e-11 && (y[1] + 1f64.sin()).abs() < 1e-11);
+    }
+
+    #[test]
+    fn event_integration_stops_at_the_event() {
+        // Harmonic oscillator y = cos t: y' = −sin t reaches −0.5 at t = asin(0.5) = π/6.
+        let f = |_t: f64, y: &[f64; 2]| [y[1], -y[0]];
+        let settings = OdeSettings {
+            rtol: 1e-12,
+            atol: 1e-14,
+            initial_step: 1e-3,
+            max_step: 0.1,
+            max_steps: 10_000,
+        };
+        let mut steps = 0;
+        let end = integrate_to_event(
+            &f,
+            0.0,
+            [1.0, 0.0],
+            &settings,
+            |_, y| -0.5 - y[1],
+            |_, _| {
+                steps += 1;
+                None::<()>
+            },
+        );
+        let OdeEnd::Event { t, y } = end else {
+            panic!("no event: {end:?}")
+        };
+        assert!((t - std::f64::consts::FRAC_PI_6).abs() < 1e-11, "t = {t}");
+        assert!((y[0] - t.cos()).abs() < 1e-11 && (y[1] + 0.5).abs() < 1e-11);
+        assert!(steps >= 2);
+        // Already at the event: stops at t0; a stop request is reported.
+        assert!(matches!(
+            integrate_to_event(&f, 0.0, [1.0, 0.0], &settings, |_, y| y[0] - 1.0, |_, _| None::<()>),
+            OdeEnd::Event { t, .. } if t == 0.0
+        ));
+        let stopped = integrate_to_event(
+            &f,
+            0.0,
+            [1.0, 0.0],
+            &settings,
+            |_, _| -1.0,
+            |t, _| (t > 0.5).then_some("late"),
+        );
+        assert!(matches!(stopped, OdeEnd::Stopped { reason: "late", t } if t > 0.5));
+    }
+
+    #[test]
+    fn levenberg_marquardt_solves_rosenbrock_and_square_systems() {
+        // Rosenbrock as residuals: r = (10 (y − x²), 1 − x), zero at (1, 1).
+        let settings = LmSettings::default();
+        let res = levenberg_marquardt(
+            |x: &[f64; 2]| Some([10.0 * (x[1] - x[0] * x[0]), 1.0 - x[0]]),
+            [-1.2, 1.0],
+            &settings,
+        )
+        .unwrap();
+        assert!(res.converged, "{res:?}");
+        assert!((res.x[0] - 1.0).abs() < 1e-9 && (res.x[1] - 1.0).abs() < 1e-9);
+        // A square nonlinear system with a region where the residual is undefined (x < 0):
+        // x² + y² = 4, e^x + y = 1 has a root near (1.004, −1.729).
+        let res = levenberg_marquardt(
+            |x: &[f64; 2]| {
+                (x[0] >= 0.0).then(|| [x[0] * x[0] + x[1] * x[1] - 4.0, x[0].exp() + x[1] - 1.0])
+            },
+            [2.0, 0.0],
+            &settings,
+        )
+        .unwrap();
+        assert!(res.converged, "{res:?}");
+        let [x, y] = res.x;
+        assert!((x * x + y * y - 4.0).abs() < 1e-10 && (x.exp() + y - 1.0).abs() < 1e-10);
+        // An inconsistent least-squares problem ends at the minimum, not converged.
+        let res = levenberg_marquardt(
+            |x: &[f64; 1]| Some([x[0] - 1.0, x[0] + 1.0]),
+            [3.0],
+            &settings,
+        )
+        .unwrap();
+        assert!(!res.converged && res.x[0].abs() < 1e-8);
+        assert!(levenberg_marquardt(|_: &[f64; 1]| None::<[f64; 1]>, [0.0], &settings).is_none());
+    }
+
+    #[test]
+    fn eigenvalues_of_2x2_matrices() {
+        // Real: [[2, 1], [1, 2]] has 3 and 1.
+        let [a, b] = eigenvalues_2x2([[2.0, 1.0], [1.0, 2.0]]);
+        assert!((a.re - 3.0).abs() < 1e-15 && (b.re - 1.0).abs() < 1e-15 && a.im == 0.0);
+        // Rotation-scaling: 0.5 (cos θ, −sin θ; sin θ, cos θ) has 0.5 e^{±iθ}.
+        let (r, th) = (0.5, 0.7f64);
+        let [a, b] = eigenvalues_2x2([[r * th.cos(), -r * th.sin()], [r * th.sin(), r * th.cos()]]);
+        assert!((a.modulus() - r).abs() < 1e-15 && (a.argument().abs() - th).abs() < 1e-14);
+        assert!((a.im + b.im).abs() < 1e-15);
+        // Tiny eigenvalue next to a large one keeps its relative accuracy.
+        let [a, b] = eigenvalues_2x2([[1e8, 1.0], [0.0, 1e-8]]);
+        assert!((a.re - 1e8).abs() < 1e-6 && (b.re - 1e-8).abs() < 1e-22);
+        // Characteristic polynomial check on a non-symmetric matrix.
+        let m = [[0.3, -1.7], [0.4, -0.9]];
+        for l in eigenvalues_2x2(m) {
+            // (a − λ)(d − λ) − bc = 0 for complex λ.
+            let (ar, ai) = (m[0][0] - l.re, -l.im);
+            let (dr, di) = (m[1][1] - l.re, -l.im);
+            let (pr, pi) = (ar * dr - ai * di - m[0][1] * m[1][0], ar * di + ai * dr);
+            assert!(pr.abs() < 1e-14 && pi.abs() < 1e-14);
+        }
     }
 }

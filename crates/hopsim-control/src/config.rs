@@ -12,6 +12,10 @@ pub struct MomentumImpulseConfig {
     /// If no touchdown follows a brake within this time (the brake did not lift the
     /// disc), the next cycle starts anyway, s.
     pub rearm_timeout: f64,
+    /// Keep the brake engaged (the rates locked) from the brake until the next cycle
+    /// starts at touchdown; otherwise the lock acts in the brake's step only and the
+    /// flywheel then turns freely with the motor off.
+    pub hold_brake: bool,
 }
 
 /// When the cane is extended (physics.md §5.4).

@@ -63,6 +63,11 @@ impl Controller for MomentumImpulse {
             };
         }
         if self.phase != Phase::Stance {
+            if self.config.hold_brake {
+                // The engaged brake keeps the rates locked (a bilateral velocity constraint
+                // each step: it transmits the touchdown impact to the flywheel too).
+                actuation.locks.push((self.disc, self.config.flywheel));
+            }
             return;
         }
         if self.stored_impulse(input) >= self.config.impulse_limit {

@@ -38,6 +38,7 @@ pub(crate) fn read_controller(
             torque: c.f64("torque", Num::any("N m"))?,
             impulse_limit: c.f64("impulse_limit", Num::positive("N m s"))?,
             rearm_timeout: c.f64_or("rearm_timeout", 1.0, Num::positive("s"))?,
+            hold_brake: c.bool_or("hold_brake", false)?,
         }),
         _ => {
             let joint_body = jointed("joint")?;

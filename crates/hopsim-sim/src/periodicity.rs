@@ -7,17 +7,25 @@
 //! (within one step; an impact inside that step is smeared over it, which the tolerances
 //! below are far above).
 //!
-//! A gait has period `p` when the section states `p` motor periods apart agree within the
-//! tolerances over the last `window` comparisons: with `z_k` the `k`-th section state,
+//! A gait has period `p` when the section states `p` motor periods apart agree within a
+//! tolerance over the last `window` comparisons: with `z_k` the `k`-th section state,
 //!
 //! ```text
-//! r_p = max over the last `window` k, over components i of |z_{k+p,i} − z_{k,i}| / tol_i
+//! r_p = max over the last `window` k, over components i of |z_{k+p,i} − z_{k,i}| / tol_i,
+//! tol_i = relative_tolerance · (max − min of component i over the compared stretch of the
+//!         run, every step, not only the sections) + absolute_tolerance
 //! ```
 //!
-//! (`tol_i` = [`PeriodicityOptions::position_tolerance`] for coordinates,
-//! [`PeriodicityOptions::velocity_tolerance`] for velocities). The detected period is the
-//! smallest `p ≤ max_period` with `r_p ≤ 1`; none when no `p` qualifies (quasi-periodic,
-//! chaotic, still in its transient, or a period above `max_period`).
+//! The detected period is the smallest `p ≤ max_period` with `r_p ≤ 1`; none when no `p`
+//! qualifies (quasi-periodic, chaotic, still in its transient, or a period above
+//! `max_period`).
+//!
+//! The tolerance is relative to each variable's own excursion in the gait because a
+//! time-stepper's section cannot repeat exactly: impacts and lift-offs are resolved on the
+//! step grid, so the section state of a periodic gait jitters by `O(Δt)` (for CaneBot at
+//! `Δt = P/1800`, up to about 0.5 % of the excursions; halving `Δt` roughly halves it, see
+//! docs/canebot.md), while `z` of a period-2 gait compared one period apart differs by a
+//! sizeable fraction of the excursion.
 
 use serde::Serialize;
 
@@ -28,21 +36,22 @@ pub struct PeriodicityOptions {
     pub window: usize,
     /// Largest period tried, in motor periods.
     pub max_period: usize,
-    /// Agreement required of the coordinates (m for `y`, rad for angles).
-    pub position_tolerance: f64,
-    /// Agreement required of the velocities (m/s, rad/s).
-    pub velocity_tolerance: f64,
+    /// Agreement required, as a fraction of each component's excursion (max − min) over
+    /// the compared stretch of the run.
+    pub relative_tolerance: f64,
+    /// Added to every component's tolerance (m, rad, m/s, rad/s), for components that do
+    /// not move.
+    pub absolute_tolerance: f64,
 }
 
 impl Default for PeriodicityOptions {
-    /// The last 8 comparisons, periods 1 to 4, 1 mm or 1 mrad and 1 cm/s or 0.01 rad/s
-    /// (docs/canebot.md shows how these compare with the section spread of the gaits).
+    /// The last 8 comparisons, periods 1 to 4, 2 % of each excursion plus 1e-6.
     fn default() -> Self {
         Self {
             window: 8,
             max_period: 4,
-            position_tolerance: 1e-3,
-            velocity_tolerance: 1e-2,
+            relative_tolerance: 0.02,
+            absolute_tolerance: 1e-6,
         }
     }
 }
@@ -59,6 +68,8 @@ pub struct Periodicity {
     pub sections: usize,
     /// Comparisons per period (`PeriodicityOptions::window`).
     pub window: usize,
+    /// `PeriodicityOptions::relative_tolerance`.
+    pub relative_tolerance: f64,
 }
 
 impl Periodicity {
@@ -85,9 +96,10 @@ impl std::fmt::Display for Periodicity {
         let residuals: Vec<String> = self.residuals.iter().map(|r| format!("{r:.3}")).collect();
         write!(
             f,
-            " (residuals {} for p = 1..{}; {} sections, last {} compared)",
+            " (residuals {} for p = 1..{}, 1 = {} % of the excursions; {} sections, last {} compared)",
             residuals.join(", "),
             self.residuals.len(),
+            100.0 * self.relative_tolerance,
             self.sections,
             self.window
         )
@@ -107,6 +119,12 @@ pub struct PoincareSection {
     samples: Vec<Vec<f64>>,
     /// Times of the samples, s.
     times: Vec<f64>,
+    /// Componentwise minimum and maximum of the states pushed since the last sample.
+    low: Vec<f64>,
+    high: Vec<f64>,
+    /// For each sample after the first: the componentwise (min, max) over the period that
+    /// ended with it (`spans[k - 1]` ends with sample `k`).
+    spans: Vec<(Vec<f64>, Vec<f64>)>,
 }
 
 impl PoincareSection {
@@ -125,6 +143,9 @@ impl PoincareSection {
             previous: None,
             samples: Vec::new(),
             times: Vec::new(),
+            low: Vec::new(),
+            high: Vec::new(),
+            spans: Vec::new(),
         }
     }
 
@@ -150,9 +171,23 @@ impl PoincareSection {
                 }
                 _ => z.clone(),
             };
+            if !self.samples.is_empty() {
+                let (mut low, mut high) = (self.low.clone(), self.high.clone());
+                for ((l, h), v) in low.iter_mut().zip(high.iter_mut()).zip(&sample) {
+                    *l = l.min(*v);
+                    *h = h.max(*v);
+                }
+                self.spans.push((low, high));
+            }
+            self.low.clone_from(&sample);
+            self.high.clone_from(&sample);
             self.samples.push(sample);
             self.times.push(ts);
             self.next += 1;
+        }
+        for ((l, h), v) in self.low.iter_mut().zip(self.high.iter_mut()).zip(&z) {
+            *l = l.min(*v);
+            *h = h.max(*v);
         }
         self.previous = Some((t, z));
     }
@@ -172,21 +207,41 @@ impl PoincareSection {
         self.coordinates
     }
 
+    /// The tolerance of each component for comparisons from sample `first` on: the
+    /// excursion over the periods from sample `first` to the last sample.
+    pub fn tolerances(&self, first: usize, options: &PeriodicityOptions) -> Vec<f64> {
+        let dim = self.samples.first().map_or(0, Vec::len);
+        let (mut low, mut high) = (vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]);
+        for (l, h) in &self.spans[first.min(self.spans.len())..] {
+            for i in 0..dim {
+                low[i] = low[i].min(l[i]);
+                high[i] = high[i].max(h[i]);
+            }
+        }
+        (0..dim)
+            .map(|i| {
+                let span = if high[i] >= low[i] {
+                    high[i] - low[i]
+                } else {
+                    0.0
+                };
+                options.relative_tolerance * span + options.absolute_tolerance
+            })
+            .collect()
+    }
+
     /// `r_p` (see the module documentation), `NaN` with too few samples.
     pub fn residual(&self, p: usize, options: &PeriodicityOptions) -> f64 {
         let n = self.samples.len();
         if p == 0 || options.window == 0 || n < options.window + p {
             return f64::NAN;
         }
+        let first = n - options.window - p;
+        let tol = self.tolerances(first, options);
         let mut worst = 0.0_f64;
-        for k in n - options.window - p..n - p {
+        for k in first..n - p {
             let (a, b) = (&self.samples[k], &self.samples[k + p]);
-            for (i, (x, y)) in a.iter().zip(b).enumerate() {
-                let tol = if i < self.coordinates {
-                    options.position_tolerance
-                } else {
-                    options.velocity_tolerance
-                };
+            for ((x, y), tol) in a.iter().zip(b).zip(&tol) {
                 worst = worst.max((x - y).abs() / tol);
             }
         }
@@ -204,6 +259,7 @@ impl PoincareSection {
             residuals,
             sections: self.samples.len(),
             window: options.window,
+            relative_tolerance: options.relative_tolerance,
         }
     }
 }
@@ -265,6 +321,24 @@ mod tests {
         let d = none.detect(&opts);
         assert_eq!(d.period, None, "{d}");
         assert!(d.residual() > 1.0);
+    }
+
+    #[test]
+    fn jitter_well_inside_the_tolerance_is_still_period_one() {
+        let period = 0.25;
+        // ±0.5 % of the excursion (2) of a period-1 signal, changing every period.
+        let jittery = section_of(
+            |t| {
+                let k = (t / period).floor();
+                (std::f64::consts::TAU * t / period).cos() + 0.01 * (k * 1.7).sin()
+            },
+            period,
+            1e-3,
+            10.0,
+        );
+        let d = jittery.detect(&PeriodicityOptions::default());
+        assert_eq!(d.period, Some(1), "{d}");
+        assert!(d.residuals[0] > 0.1, "{d}");
     }
 
     #[test]

@@ -134,15 +134,22 @@ impl<'s> Simulation<'s> {
             }
         }
         let record = self.stepper.step(model, &mut self.state, &self.actuation)?;
-        // A brake acts inside the step: the event carries the impulse actually transferred.
-        for lock in &record.locks {
-            self.events.push(Event {
-                t: record.t,
-                step: record.step,
-                kind: EventKind::Brake {
-                    impulse: lock.impulse.abs(),
-                },
-            });
+        // A brake acts inside the step: the event carries the impulse actually transferred
+        // (a brake held engaged in later steps is not a new event).
+        for ev in &self.control_events {
+            if let ControlEvent::Brake { body, other } = *ev {
+                let lock = record
+                    .locks
+                    .iter()
+                    .find(|l| (l.body, l.other) == (body, other));
+                self.events.push(Event {
+                    t: record.t,
+                    step: record.step,
+                    kind: EventKind::Brake {
+                        impulse: lock.map_or(0.0, |l| l.impulse.abs()),
+                    },
+                });
+            }
         }
         self.loaded = record.in_contact();
         // A switchable shape's contact (the cane's tip) starting to carry load.

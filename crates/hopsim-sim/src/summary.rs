@@ -296,11 +296,15 @@ impl std::fmt::Display for Summary {
             "  mean speed         {:>10.4} m/s (last {w:.2} s)",
             self.mean_speed_mps
         )?;
-        writeln!(
-            f,
-            "  hops               {:>10} ({:.4} m per hop)",
-            self.hops, self.distance_per_hop_m
-        )?;
+        if self.hops > 0 {
+            writeln!(
+                f,
+                "  hops               {:>10} ({:.4} m per hop)",
+                self.hops, self.distance_per_hop_m
+            )?;
+        } else {
+            writeln!(f, "  hops               {:>10} (no flight phase)", 0)?;
+        }
         writeln!(
             f,
             "  actuator impulses  {:>10} totalling {:.4} N s ({:.4} N s/m)",

@@ -45,7 +45,12 @@ struct BrakeCheck {
 impl Observer for BrakeCheck {
     fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
         let (q, u) = (v.state.q.as_slice(), v.state.u.as_slice());
-        if let Some(lock) = v.record.locks.first() {
+        // A brake's engagement is an event; a held brake also locks later steps.
+        let engaged = v.events.iter().find_map(|e| match e.kind {
+            EventKind::Brake { impulse } => Some(impulse),
+            _ => None,
+        });
+        if let (Some(event), Some(lock)) = (engaged, v.record.locks.first()) {
             let (i_s, i_r) = self.inertia;
             let (qa, ua) = (&self.prev.q, &self.prev.u);
             self.brakes += 1;
@@ -86,13 +91,9 @@ impl Observer for BrakeCheck {
                     "angular momentum change {total_change} ≠ contact moment {moment}"
                 ));
             }
-            let event = v.events.iter().find_map(|e| match e.kind {
-                EventKind::Brake { impulse } => Some(impulse),
-                _ => None,
-            });
-            if event != Some(lock.impulse.abs()) {
+            if event != lock.impulse.abs() {
                 fail(format!(
-                    "brake event {event:?} ≠ logged impulse {}",
+                    "brake event {event} ≠ logged impulse {}",
                     lock.impulse
                 ));
             }
