@@ -5,6 +5,17 @@ run scene="scenes/robbit.toml":
     mkdir -p out
     cargo run --release -- run {{scene}} --mcap out/run.mcap --rrd out/run.rrd --summary out/summary.json
 
+# The thesis' 30 × 30 Robbit sweep: speed against transferred impulse (docs/sweeps.md)
+sweep-robbit:
+    cargo run --release -- sweep scenes/robbit.toml --grid controller.torque=0.1:0.3:30 \
+        --grid controller.impulse_limit=0.04:0.07:30 --out out/robbit-sweep
+
+# CaneBot's cane-timing sweep with the retracted and extended baselines (docs/canebot.md)
+sweep-canebot:
+    cargo run --release -- sweep scenes/canebot-timed.toml --grid controller.cane_delay=0:1:41 \
+        --grid controller.cane_duration=0.5,1 --baseline retracted:controller.cane_mode=retracted \
+        --baseline extended:controller.cane_mode=extended --out out/canebot-sweep
+
 # All tests (the command CI runs)
 test:
     cargo test --workspace --release

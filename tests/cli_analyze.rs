@@ -10,14 +10,30 @@ fn hopsim(args: &[&str]) -> Output {
         .expect("run hopsim")
 }
 
-fn json(args: &[&str]) -> serde_json::Value {
+/// Runs `hopsim ARGS` and asserts that it succeeds.
+fn hopsim_ok(args: &[&str]) -> Output {
     let out = hopsim(args);
     assert!(
         out.status.success(),
         "hopsim {args:?} failed: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+    out
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    serde_json::from_slice(&hopsim_ok(args).stdout).expect("one JSON object on stdout")
+}
+
+/// Asserts that each argument list exits with code 2 and a clear error, not a panic.
+fn assert_invalid_input(cases: &[&[&str]]) {
+    for args in cases {
+        let out = hopsim(args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error:"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
 }
 
 fn finite(value: &serde_json::Value, field: &str) -> f64 {
@@ -115,25 +131,22 @@ fn assert_files(dir: &Path, names: &[&str]) {
     }
 }
 
+/// Runs `hopsim ARGS --out DIR`, asserts that it succeeds and that DIR holds `names`
+/// ([`assert_files`]).
+fn assert_writes(dir: &Path, args: &[&str], names: &[&str]) {
+    let mut args = args.to_vec();
+    args.extend(["--out", dir.to_str().unwrap()]);
+    hopsim_ok(&args);
+    assert_files(dir, names);
+}
+
 #[test]
 fn out_dir_receives_csv_png_svg() {
     let dir = tempfile::tempdir().unwrap();
     let case_dir = dir.path().join("case");
-    let out = hopsim(&[
-        "analyze",
-        "template",
-        "--case",
-        "kangaroo-rat",
-        "--out",
-        case_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_files(
+    assert_writes(
         &case_dir,
+        &["analyze", "template", "--case", "kangaroo-rat"],
         &[
             "trajectory.csv",
             "hops.csv",
@@ -147,23 +160,16 @@ fn out_dir_receives_csv_png_svg() {
     assert!(trajectory.starts_with("t_s,hop,phase,x_m,y_m"));
 
     let grid_dir = dir.path().join("grid");
-    let out = hopsim(&[
-        "analyze",
-        "template",
-        "--grid",
-        "cargo",
-        "--resolution",
-        "6",
-        "--out",
-        grid_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_files(
+    assert_writes(
         &grid_dir,
+        &[
+            "analyze",
+            "template",
+            "--grid",
+            "cargo",
+            "--resolution",
+            "6",
+        ],
         &[
             "cargo_grid.csv",
             "cargo_grid_cost_of_transport.png",
@@ -175,22 +181,9 @@ fn out_dir_receives_csv_png_svg() {
     let csv = std::fs::read_to_string(grid_dir.join("cargo_grid.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 36);
 
-    let wheel_dir = dir.path().join("wheel");
-    let out = hopsim(&[
-        "analyze",
-        "impulsive-wheel",
-        "--series",
-        "3.0,3.5,3.9",
-        "--out",
-        wheel_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_files(
-        &wheel_dir,
+    assert_writes(
+        &dir.path().join("wheel"),
+        &["analyze", "impulsive-wheel", "--series", "3.0,3.5,3.9"],
         &[
             "bifurcation.csv",
             "bifurcation.png",
@@ -201,24 +194,16 @@ fn out_dir_receives_csv_png_svg() {
         ],
     );
 
-    let obstacle_dir = dir.path().join("obstacle");
-    let out = hopsim(&[
-        "analyze",
-        "obstacle",
-        "--resolution",
-        "8",
-        "--map-height-ratios",
-        "0.2",
-        "--out",
-        obstacle_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_files(
-        &obstacle_dir,
+    assert_writes(
+        &dir.path().join("obstacle"),
+        &[
+            "analyze",
+            "obstacle",
+            "--resolution",
+            "8",
+            "--map-height-ratios",
+            "0.2",
+        ],
         &[
             "costs_vs_speed.csv",
             "costs_vs_speed.png",
@@ -244,8 +229,8 @@ fn bad_case_name_lists_the_valid_names() {
 
 #[test]
 fn bad_numbers_are_clear_errors_not_panics() {
-    for args in [
-        &["analyze", "template", "--case", "cargo-2", "--mass", "-3"][..],
+    assert_invalid_input(&[
+        &["analyze", "template", "--case", "cargo-2", "--mass", "-3"],
         &[
             "analyze",
             "template",
@@ -258,13 +243,7 @@ fn bad_numbers_are_clear_errors_not_panics() {
         &["analyze", "impulsive-wheel", "--impulse", "nan"],
         &["analyze", "obstacle", "--height-ratio", "1.5"],
         &["analyze", "template", "--grid", "cargo", "--radius", "1"],
-    ] {
-        let out = hopsim(args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert!(stderr.starts_with("error:"), "{args:?}: {stderr}");
-        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    }
+    ]);
 }
 
 /// `fixed-points --json` on the default 30 × 30 grid: every point is a fixed point with
@@ -346,29 +325,22 @@ fn fixed_points_single_point_simulates() {
 fn fixed_points_out_dir_and_overrides() {
     let dir = tempfile::tempdir().unwrap();
     let grid_dir = dir.path().join("fp");
-    let out = hopsim(&[
-        "analyze",
-        "fixed-points",
-        "--grid",
-        "4x3",
-        "--angle-min",
-        "-1.2",
-        "--angle-max",
-        "-0.3",
-        "--body-mass",
-        "1.0",
-        "--touchdown",
-        "free",
-        "--out",
-        grid_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_files(
+    assert_writes(
         &grid_dir,
+        &[
+            "analyze",
+            "fixed-points",
+            "--grid",
+            "4x3",
+            "--angle-min",
+            "-1.2",
+            "--angle-max",
+            "-0.3",
+            "--body-mass",
+            "1.0",
+            "--touchdown",
+            "free",
+        ],
         &[
             "fixed_points.csv",
             "fixed_points_torque.png",
@@ -415,8 +387,8 @@ fn fixed_points_out_dir_and_overrides() {
 
 #[test]
 fn fixed_points_bad_input_exits_2() {
-    for args in [
-        &["analyze", "fixed-points", "--grid", "0x5"][..],
+    assert_invalid_input(&[
+        &["analyze", "fixed-points", "--grid", "0x5"],
         &["analyze", "fixed-points", "--grid", "big"],
         &["analyze", "fixed-points", "--eccentricity", "0.3"],
         &["analyze", "fixed-points", "--flywheel-inertia", "-1"],
@@ -437,11 +409,5 @@ fn fixed_points_bad_input_exits_2() {
             "--takeoff-energy",
             "-1",
         ],
-    ] {
-        let out = hopsim(args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert!(stderr.starts_with("error:"), "{args:?}: {stderr}");
-        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    }
+    ]);
 }

@@ -4,7 +4,7 @@
 use anyhow::Context;
 use clap::Args;
 use hopsim_analysis::output::{create_dir, Cell, CsvTable};
-use hopsim_analysis::plot::{write_png_and_svg, LinePlot, Series, SeriesStyle, BLACK};
+use hopsim_analysis::plot::{write_png_and_svg, LinePlot, RGBColor, Series, SeriesStyle, BLACK};
 use hopsim_control::ControllerConfig;
 use hopsim_scene::{Override, Scene};
 use hopsim_sim::{grid_jobs, CubeBaseline, GridAxis, Summary, SweepJob, SweepPoint};
@@ -87,6 +87,15 @@ const METRICS: &[Metric] = &[
         s.robbit
             .as_ref()
             .map_or(f64::NAN, |r| r.impulse_per_distance)
+    }),
+    ("gait_period", |s| {
+        s.gait
+            .as_ref()
+            .and_then(|g| g.period)
+            .map_or(f64::NAN, |p| p as f64)
+    }),
+    ("gait_residual", |s| {
+        s.gait.as_ref().map_or(f64::NAN, |g| g.residual())
     }),
     ("max_penetration_m", |s| s.max_penetration_m),
     ("energy_balance_error_J", |s| s.energy.max_abs_balance_error),
@@ -266,21 +275,19 @@ fn quantity_against_axis(axes: &[GridAxis], y: &str, points: &[SweepPoint]) -> L
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
-    for p in points.iter().filter(|p| p.job.values.is_empty()) {
-        if let Some(v) = p
-            .result
-            .as_ref()
-            .ok()
-            .map(|s| metric(y, s))
-            .filter(|v| v.is_finite())
-        {
-            plot = plot.with_series(
-                Series::line(p.job.label.clone(), vec![(x0, v), (x1, v)]).color(BLACK),
-            );
+    let baselines = points.iter().filter(|p| p.job.values.is_empty());
+    for (p, color) in baselines.zip(BASELINE_COLORS.iter().cycle()) {
+        let value = p.result.as_ref().ok().map(|s| metric(y, s));
+        if let Some(v) = value.filter(|v| v.is_finite()) {
+            let line = vec![(x0, v), (x1, v)];
+            plot = plot.with_series(Series::line(p.job.label.clone(), line).color(*color));
         }
     }
     plot
 }
+
+/// Colours of the baseline lines: dark, apart from the palette of the grid's series.
+const BASELINE_COLORS: [RGBColor; 3] = [BLACK, RGBColor(110, 110, 110), RGBColor(150, 60, 60)];
 
 /// A short table on stdout: every run if there are few, else counts and the extremes.
 fn report(axes: &[GridAxis], points: &[SweepPoint]) {

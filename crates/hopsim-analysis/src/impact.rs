@@ -53,6 +53,18 @@ fn check_dimensions(
     Ok(())
 }
 
+/// Checks that the vector `what` has one entry per row of the Jacobian.
+fn check_rows(what: &str, vector: &DVector<f64>, jacobian: &DMatrix<f64>) -> Result<()> {
+    if vector.len() != jacobian.nrows() {
+        return Err(AnalysisError::Dimension(format!(
+            "{what} has {} entries but the Jacobian has {} rows",
+            vector.len(),
+            jacobian.nrows()
+        )));
+    }
+    Ok(())
+}
+
 /// `M⁻¹ Jᵀ` (`n × k`).
 pub fn inverse_mass_times_transpose(
     mass: &DMatrix<f64>,
@@ -134,13 +146,7 @@ pub fn apply_impulse(
     impulse: &DVector<f64>,
 ) -> Result<DVector<f64>> {
     check_dimensions(mass, jacobian, Some(velocity_before))?;
-    if impulse.len() != jacobian.nrows() {
-        return Err(AnalysisError::Dimension(format!(
-            "impulse has {} entries but the Jacobian has {} rows",
-            impulse.len(),
-            jacobian.nrows()
-        )));
-    }
+    check_rows("impulse", impulse, jacobian)?;
     Ok(velocity_before + inverse_mass_times_transpose(mass, jacobian)? * impulse)
 }
 
@@ -156,13 +162,7 @@ pub fn impulse_for_energy_gain(
     energy_gain: f64,
 ) -> Result<f64> {
     check_dimensions(mass, jacobian, Some(velocity_before))?;
-    if direction.len() != jacobian.nrows() {
-        return Err(AnalysisError::Dimension(format!(
-            "direction has {} entries but the Jacobian has {} rows",
-            direction.len(),
-            jacobian.nrows()
-        )));
-    }
+    check_rows("direction", direction, jacobian)?;
     if !(energy_gain.is_finite() && energy_gain >= 0.0) {
         return Err(AnalysisError::invalid(
             "energy gain",

@@ -232,15 +232,18 @@ pub fn rolling_cost(wheel: &Wheel, speed: f64, height: f64) -> Result<RollingCro
 
     let u0 = DVector::from_vec(vec![speed, 0.0, -speed / r]);
     let first = impact::inelastic_impact(&mass, &corner_jacobian(r, height), &u0)?;
-    let corner_loss = -first.energy_change;
-    let mut landing_loss = 0.0;
-    let mut climb_assist = 0.0;
-    let mut impacts = 1;
+    let mut ledger = CrossingLedger {
+        initial_ke,
+        corner_loss: -first.energy_change,
+        landing_loss: 0.0,
+        climb_assist: 0.0,
+        impacts: 1,
+        flew: false,
+    };
     let mut state = CrossingState::Pivot {
         theta: theta_ground,
         omega: first.velocity_after[2],
     };
-    let mut flew = false;
     loop {
         match state {
             CrossingState::Pivot { theta, omega } => {
@@ -253,7 +256,7 @@ pub fn rolling_cost(wheel: &Wheel, speed: f64, height: f64) -> Result<RollingCro
                     let needed = m * g * r * (1.0 - theta.cos());
                     let available = 0.5 * pivot_inertia * omega * omega;
                     if available < needed {
-                        climb_assist += needed - available;
+                        ledger.climb_assist += needed - available;
                         theta = 0.0;
                         omega = 0.0;
                     }
@@ -262,7 +265,7 @@ pub fn rolling_cost(wheel: &Wheel, speed: f64, height: f64) -> Result<RollingCro
                 let kappa = 2.0 * m * r * r / pivot_inertia;
                 let normal = g * theta.cos() - r * omega * omega;
                 if normal < 0.0 {
-                    flew = true;
+                    ledger.flew = true;
                     state = pivot_to_flight(r, theta, omega);
                     continue;
                 }
@@ -274,7 +277,7 @@ pub fn rolling_cost(wheel: &Wheel, speed: f64, height: f64) -> Result<RollingCro
                         .sqrt()
                 };
                 if cos_sep > cos_ground {
-                    flew = true;
+                    ledger.flew = true;
                     let theta_sep = -cos_sep.min(1.0).acos();
                     state = pivot_to_flight(r, theta_sep, omega_at(cos_sep));
                     continue;
@@ -288,18 +291,9 @@ pub fn rolling_cost(wheel: &Wheel, speed: f64, height: f64) -> Result<RollingCro
                     omega_land,
                 ]);
                 let landing = impact::inelastic_impact(&mass, &ground_jacobian(r), &u)?;
-                landing_loss -= landing.energy_change;
-                impacts += 1;
-                return Ok(finish(
-                    wheel,
-                    initial_ke,
-                    corner_loss,
-                    landing_loss,
-                    climb_assist,
-                    impacts,
-                    flew,
-                    &landing.velocity_after,
-                ));
+                ledger.landing_loss -= landing.energy_change;
+                ledger.impacts += 1;
+                return Ok(ledger.finish(wheel, &landing.velocity_after));
             }
             CrossingState::Flight {
                 centre,
@@ -318,73 +312,59 @@ pub fn rolling_cost(wheel: &Wheel, speed: f64, height: f64) -> Result<RollingCro
                 };
                 let (c, v) = at(event.time);
                 let u = DVector::from_vec(vec![v[0], v[1], omega]);
-                impacts += 1;
+                ledger.impacts += 1;
                 if event.hits_edge {
                     let hit = impact::inelastic_impact(&mass, &corner_jacobian_at(c), &u)?;
-                    landing_loss -= hit.energy_change;
+                    ledger.landing_loss -= hit.energy_change;
                     state = CrossingState::Pivot {
                         theta: (-c[0]).atan2(c[1]),
                         omega: hit.velocity_after[2],
                     };
                 } else {
                     let landing = impact::inelastic_impact(&mass, &ground_jacobian(r), &u)?;
-                    landing_loss -= landing.energy_change;
-                    return Ok(finish(
-                        wheel,
-                        initial_ke,
-                        corner_loss,
-                        landing_loss,
-                        climb_assist,
-                        impacts,
-                        flew,
-                        &landing.velocity_after,
-                    ));
+                    ledger.landing_loss -= landing.energy_change;
+                    return Ok(ledger.finish(wheel, &landing.velocity_after));
                 }
-                if impacts > MAX_CROSSING_IMPACTS {
+                if ledger.impacts > MAX_CROSSING_IMPACTS {
                     // Chattering on the edge: treat the rest as a stop on the edge.
-                    return Ok(finish(
-                        wheel,
-                        initial_ke,
-                        corner_loss,
-                        landing_loss,
-                        climb_assist,
-                        impacts,
-                        flew,
-                        &DVector::zeros(3),
-                    ));
+                    return Ok(ledger.finish(wheel, &DVector::zeros(3)));
                 }
             }
         }
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn finish(
-    wheel: &Wheel,
+/// What a rolling crossing has cost so far [J], and how it went.
+struct CrossingLedger {
+    /// Kinetic energy on the approach.
     initial_ke: f64,
     corner_loss: f64,
     landing_loss: f64,
     climb_assist: f64,
     impacts: usize,
     flew: bool,
-    velocity_after: &DVector<f64>,
-) -> RollingCrossing {
-    // Rolling on the ground: ẋ = −R φ̇; a wheel rolling backwards must be stopped too, so
-    // only forward rolling counts as recovered.
-    let final_speed = (-wheel.radius * velocity_after[2]).max(0.0);
-    let final_ke = wheel.rolling_kinetic_energy(final_speed);
-    RollingCrossing {
-        corner_loss_j: corner_loss,
-        landing_loss_j: landing_loss,
-        climb_assist_j: climb_assist,
-        impacts,
-        path: if flew {
-            RollingPath::FlewOff
-        } else {
-            RollingPath::PivotOver
-        },
-        final_speed_mps: final_speed,
-        cost_j: climb_assist + (initial_ke - final_ke).max(0.0),
+}
+
+impl CrossingLedger {
+    /// The crossing, ended on the ground behind the wall with `velocity_after`.
+    fn finish(&self, wheel: &Wheel, velocity_after: &DVector<f64>) -> RollingCrossing {
+        // Rolling on the ground: ẋ = −R φ̇; a wheel rolling backwards must be stopped too,
+        // so only forward rolling counts as recovered.
+        let final_speed = (-wheel.radius * velocity_after[2]).max(0.0);
+        let final_ke = wheel.rolling_kinetic_energy(final_speed);
+        RollingCrossing {
+            corner_loss_j: self.corner_loss,
+            landing_loss_j: self.landing_loss,
+            climb_assist_j: self.climb_assist,
+            impacts: self.impacts,
+            path: if self.flew {
+                RollingPath::FlewOff
+            } else {
+                RollingPath::PivotOver
+            },
+            final_speed_mps: final_speed,
+            cost_j: self.climb_assist + (self.initial_ke - final_ke).max(0.0),
+        }
     }
 }
 
@@ -703,21 +683,16 @@ pub fn region_map_inertia_froude(
     froudes: &[f64],
     bar: &ProgressBar,
 ) -> Result<Vec<RegionCell>> {
-    let mut points = Vec::with_capacity(inertia_factors.len() * froudes.len());
-    for &fr in froudes {
-        for &alpha in inertia_factors {
-            require_positive("inertia-factor", alpha)?;
-            require_positive("froude", fr)?;
-            points.push((alpha, fr));
-        }
-    }
-    validate_case(&Wheel::dimensionless(1.0), 1.0, height_ratio)?;
-    crate::progress::par_map_progress(&points, bar, |&(alpha, fr)| {
-        let wheel = Wheel::dimensionless(alpha);
-        region_cell(&wheel, wheel.speed_from_froude(fr), height_ratio, alpha, fr)
-    })
-    .into_iter()
-    .collect()
+    region_map(
+        height_ratio,
+        ("inertia-factor", inertia_factors),
+        ("froude", froudes),
+        bar,
+        |alpha, fr| {
+            let wheel = Wheel::dimensionless(alpha);
+            region_cell(&wheel, wheel.speed_from_froude(fr), height_ratio, alpha, fr)
+        },
+    )
 }
 
 /// Region map over body mass × speed with the allometric wheel ([`Wheel::allometric`]) and
@@ -728,19 +703,38 @@ pub fn region_map_allometric(
     speeds: &[f64],
     bar: &ProgressBar,
 ) -> Result<Vec<RegionCell>> {
-    let mut points = Vec::with_capacity(masses.len() * speeds.len());
-    for &speed in speeds {
-        for &mass in masses {
-            require_positive("mass", mass)?;
-            require_positive("speed", speed)?;
-            points.push((mass, speed));
+    region_map(
+        height_ratio,
+        ("mass", masses),
+        ("speed", speeds),
+        bar,
+        |mass, speed| {
+            let wheel = Wheel::allometric(mass);
+            region_cell(&wheel, speed, height_ratio * wheel.radius, mass, speed)
+        },
+    )
+}
+
+/// The cells `cell(x, y)` of a region map in row-major order (`y` outer, `x` inner),
+/// computed in parallel, after checking that every axis value is positive (named by its
+/// axis) and that `height_ratio` is a valid wall.
+fn region_map(
+    height_ratio: f64,
+    (x_name, xs): (&str, &[f64]),
+    (y_name, ys): (&str, &[f64]),
+    bar: &ProgressBar,
+    cell: impl Fn(f64, f64) -> Result<RegionCell> + Sync,
+) -> Result<Vec<RegionCell>> {
+    let mut points = Vec::with_capacity(xs.len() * ys.len());
+    for &y in ys {
+        for &x in xs {
+            require_positive(x_name, x)?;
+            require_positive(y_name, y)?;
+            points.push((x, y));
         }
     }
     validate_case(&Wheel::dimensionless(1.0), 1.0, height_ratio)?;
-    crate::progress::par_map_progress(&points, bar, |&(mass, speed)| {
-        let wheel = Wheel::allometric(mass);
-        region_cell(&wheel, speed, height_ratio * wheel.radius, mass, speed)
-    })
-    .into_iter()
-    .collect()
+    crate::progress::par_map_progress(&points, bar, |&(x, y)| cell(x, y))
+        .into_iter()
+        .collect()
 }

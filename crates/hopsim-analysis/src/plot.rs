@@ -228,12 +228,75 @@ fn padded(range: Option<(f64, f64)>, fraction: f64) -> (f64, f64) {
     }
 }
 
+/// A chart with linear `f64` axes, as every figure here draws.
+type Chart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// The chart of a figure on `area`: the caption `title` above, room for the axis labels.
+fn chart<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+) -> std::result::Result<Chart<'a, DB>, String> {
+    ChartBuilder::on(area)
+        .caption(title, (FONT, 24))
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(72)
+        .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
+        .map_err(|e| e.to_string())
+}
+
+/// Draws the axes with their labels; `grid` adds light grid lines (maps cover them).
+fn draw_axes<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    x_label: &str,
+    y_label: &str,
+    grid: bool,
+) -> DrawResult {
+    let mut mesh = chart.configure_mesh();
+    if grid {
+        mesh.light_line_style(RGBColor(235, 235, 235));
+    } else {
+        mesh.disable_mesh();
+    }
+    mesh.x_desc(x_label)
+        .y_desc(y_label)
+        .label_style((FONT, 15))
+        .axis_desc_style((FONT, 17))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
+/// Draws the legend of the labelled series in the upper right corner.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>) -> DrawResult {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 15))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
+/// Checks that the `figure` has `len = nx × ny > 0` `cells`.
+fn check_grid(figure: &str, cells: &str, nx: usize, ny: usize, len: usize) -> DrawResult {
+    if nx == 0 || ny == 0 || len != nx * ny {
+        return Err(format!(
+            "{figure} needs {nx}×{ny} = {} {cells}, got {len}",
+            nx * ny
+        ));
+    }
+    Ok(())
+}
+
 fn draw_series<DB: DrawingBackend>(
-    chart: &mut ChartContext<
-        '_,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
+    chart: &mut Chart<'_, DB>,
     series: &Series,
     default_color: RGBColor,
 ) -> DrawResult {
@@ -389,34 +452,13 @@ impl Figure for LinePlot {
         let y_range = self
             .y_range
             .unwrap_or_else(|| padded(finite_range(all().map(|p| p.1)), 0.05));
-        let mut chart = ChartBuilder::on(root)
-            .caption(&self.title, (FONT, 24))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
-            .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .label_style((FONT, 15))
-            .axis_desc_style((FONT, 17))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        let mut chart = chart(root, &self.title, x_range, y_range)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, true)?;
         for (i, series) in self.series.iter().enumerate() {
             draw_series(&mut chart, series, PALETTE[i % PALETTE.len()])?;
         }
         if self.series.iter().any(|s| s.label.is_some()) {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 15))
-                .draw()
-                .map_err(|e| e.to_string())?;
+            draw_legend(&mut chart)?;
         }
         Ok(())
     }
@@ -452,6 +494,39 @@ fn sorted_edges(centres: &[f64]) -> (Vec<f64>, bool) {
 fn cell_rect(edges: &[f64], ascending: bool, n: usize, i: usize) -> (f64, f64) {
     let k = if ascending { i } else { n - 1 - i };
     (edges[k], edges[k + 1])
+}
+
+/// The cells of a rectilinear grid with (monotonic, non-empty) cell centres `x` and `y`.
+struct CellGrid {
+    x: (Vec<f64>, bool),
+    y: (Vec<f64>, bool),
+}
+
+impl CellGrid {
+    fn new(x: &[f64], y: &[f64]) -> Self {
+        CellGrid {
+            x: sorted_edges(x),
+            y: sorted_edges(y),
+        }
+    }
+
+    /// The x and y ranges the cells cover.
+    fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let range = |edges: &[f64]| (edges[0], edges[edges.len() - 1]);
+        (range(&self.x.0), range(&self.y.0))
+    }
+
+    /// Every cell's row-major index `iy · nx + ix` and rectangle, in that order.
+    fn cells(&self) -> impl Iterator<Item = (usize, [(f64, f64); 2])> + '_ {
+        let (nx, ny) = (self.x.0.len() - 1, self.y.0.len() - 1);
+        (0..ny).flat_map(move |iy| {
+            (0..nx).map(move |ix| {
+                let (x0, x1) = cell_rect(&self.x.0, self.x.1, nx, ix);
+                let (y0, y1) = cell_rect(&self.y.0, self.y.1, ny, iy);
+                (iy * nx + ix, [(x0, y0), (x1, y1)])
+            })
+        })
+    }
 }
 
 /// A heatmap of values on a rectilinear grid; `None` (or non-finite) cells stay blank.
@@ -524,67 +599,28 @@ impl Figure for Heatmap {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
         let (nx, ny) = (self.x.len(), self.y.len());
-        if nx == 0 || ny == 0 || self.values.len() != nx * ny {
-            return Err(format!(
-                "heatmap needs {}×{} = {} values, got {}",
-                nx,
-                ny,
-                nx * ny,
-                self.values.len()
-            ));
-        }
+        check_grid("heatmap", "values", nx, ny, self.values.len())?;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let (main, bar) = root.split_horizontally(self.size.0.saturating_sub(130));
-        let (xe, x_up) = sorted_edges(&self.x);
-        let (ye, y_up) = sorted_edges(&self.y);
+        let grid = CellGrid::new(&self.x, &self.y);
         let value = |v: &Option<f64>| v.filter(|v| v.is_finite());
         let (lo, hi) = self
             .value_range
             .or_else(|| finite_range(self.values.iter().filter_map(value)))
             .unwrap_or((0.0, 1.0));
         let span = if hi > lo { hi - lo } else { 1.0 };
-        let mut chart = ChartBuilder::on(&main)
-            .caption(&self.title, (FONT, 24))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(xe[0]..xe[nx], ye[0]..ye[ny])
-            .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .label_style((FONT, 15))
-            .axis_desc_style((FONT, 17))
-            .draw()
-            .map_err(|e| e.to_string())?;
-        let mut cells = Vec::new();
-        for iy in 0..ny {
-            for ix in 0..nx {
-                if let Some(v) = value(&self.values[iy * nx + ix]) {
-                    let (x0, x1) = cell_rect(&xe, x_up, nx, ix);
-                    let (y0, y1) = cell_rect(&ye, y_up, ny, iy);
-                    cells.push(Rectangle::new(
-                        [(x0, y0), (x1, y1)],
-                        viridis((v - lo) / span).filled(),
-                    ));
-                }
-            }
-        }
+        let (x_range, y_range) = grid.ranges();
+        let mut chart = chart(&main, &self.title, x_range, y_range)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, false)?;
+        let cells = grid.cells().filter_map(|(k, rect)| {
+            value(&self.values[k]).map(|v| Rectangle::new(rect, viridis((v - lo) / span).filled()))
+        });
         chart.draw_series(cells).map_err(|e| e.to_string())?;
         for (i, series) in self.overlays.iter().enumerate() {
             draw_series(&mut chart, series, PALETTE[(i + 3) % PALETTE.len()])?;
         }
         if self.overlays.iter().any(|s| s.label.is_some()) {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 15))
-                .draw()
-                .map_err(|e| e.to_string())?;
+            draw_legend(&mut chart)?;
         }
         // Colour bar.
         let mut bar_chart = ChartBuilder::on(&bar)
@@ -683,52 +719,24 @@ impl Figure for CategoryMap {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
         let (nx, ny) = (self.x.len(), self.y.len());
-        if nx == 0 || ny == 0 || self.cells.len() != nx * ny {
-            return Err(format!(
-                "category map needs {}×{} = {} cells, got {}",
-                nx,
-                ny,
-                nx * ny,
-                self.cells.len()
-            ));
-        }
+        check_grid("category map", "cells", nx, ny, self.cells.len())?;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let (xe, x_up) = sorted_edges(&self.x);
-        let (ye, y_up) = sorted_edges(&self.y);
+        let grid = CellGrid::new(&self.x, &self.y);
         let color = |k: usize| {
             self.colors
                 .as_ref()
                 .and_then(|c| c.get(k).copied())
                 .unwrap_or(PALETTE[k % PALETTE.len()])
         };
-        let mut chart = ChartBuilder::on(root)
-            .caption(&self.title, (FONT, 24))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(xe[0]..xe[nx], ye[0]..ye[ny])
-            .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .label_style((FONT, 15))
-            .axis_desc_style((FONT, 17))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        let (x_range, y_range) = grid.ranges();
+        let mut chart = chart(root, &self.title, x_range, y_range)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, false)?;
         for (k, name) in self.categories.iter().enumerate() {
-            let mut rects = Vec::new();
-            for iy in 0..ny {
-                for ix in 0..nx {
-                    if self.cells[iy * nx + ix] == Some(k) {
-                        let (x0, x1) = cell_rect(&xe, x_up, nx, ix);
-                        let (y0, y1) = cell_rect(&ye, y_up, ny, iy);
-                        rects.push(Rectangle::new([(x0, y0), (x1, y1)], color(k).filled()));
-                    }
-                }
-            }
             let c = color(k);
+            let rects = grid
+                .cells()
+                .filter(|&(i, _)| self.cells[i] == Some(k))
+                .map(|(_, rect)| Rectangle::new(rect, c.filled()));
             chart
                 .draw_series(rects)
                 .map_err(|e| e.to_string())?
@@ -742,14 +750,7 @@ impl Figure for CategoryMap {
                 PALETTE[(i + self.categories.len()) % PALETTE.len()],
             )?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font((FONT, 15))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        draw_legend(&mut chart)?;
         Ok(())
     }
 }

@@ -4,14 +4,15 @@
 //! [`robbit_model`] builds the two-body model (disc + flywheel pivoting at the CoM) for
 //! `hopsim-step`; [`simulate_from_rest`] runs it from rest on the ground under
 //! hopsim-control's `MomentumImpulse` controller with a control `β` ([`simulate`] from any
-//! state) and records the state at every brake (the Poincaré section of the reduced model); [`compare`] measures how the
-//! recorded take-off states approach a predicted fixed point.
+//! state) and records the state at every brake (the Poincaré section of the reduced
+//! model); [`compare`] measures how the recorded take-off states approach a predicted
+//! fixed point.
 //!
 //! `MomentumImpulse` locks the flywheel for the one step of the brake and leaves it free
 //! afterwards, which is [`FlywheelAtTouchdown::Free`]. For [`FlywheelAtTouchdown::Locked`]
-//! the controller is wrapped so that the lock is repeated every step from the brake until
-//! the controller switches the motor on again (the step after touchdown): the touchdown
-//! impact then acts on the locked pair, as in the reduced model.
+//! its `hold_brake` option repeats the lock every step from the brake until the controller
+//! switches the motor on again (the step after touchdown): the touchdown impact then acts
+//! on the locked pair, as in the reduced model.
 
 use crate::error::{AnalysisError, Result};
 use crate::fixed_points::FixedPoint;
@@ -19,9 +20,7 @@ use crate::robbit::{Control, FlywheelAtTouchdown, RobbitParams, SectionState};
 use hopsim_control::{
     ControlEvent, ControlInput, Controller, MomentumImpulse, MomentumImpulseConfig,
 };
-use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, Model, Shape, ShapeInstance, Terrain, Vec2,
-};
+use hopsim_model::{Body, ContactMaterial, Model, Shape, ShapeInstance, Terrain, Vec2};
 use hopsim_step::{Actuation, State, StepSettings, Stepper};
 use nalgebra::DVector;
 use serde::Serialize;
@@ -38,26 +37,11 @@ pub const FLYWHEEL: usize = 1;
 /// mass matrix is `diag(m, m, I_S, I_R)` as in physics.md §5.3.
 pub fn robbit_model(p: &RobbitParams) -> Result<Model> {
     p.validate()?;
-    let flywheel = Body {
-        name: "flywheel".into(),
-        mass: p.flywheel_mass,
-        inertia: p.flywheel_inertia,
-        joint: Some(Joint {
-            parent: 0,
-            pivot_in_parent: Vec2::zeros(),
-            com_in_child: Vec2::zeros(),
-            coordinate: JointCoordinate::Absolute,
-            damping: 0.0,
-        }),
-    };
-    let disc = Body {
-        name: "disc".into(),
-        mass: p.body_mass,
-        inertia: p.body_inertia,
-        joint: None,
-    };
     Model::new(
-        vec![disc, flywheel],
+        vec![
+            Body::base("disc", p.body_mass, p.body_inertia),
+            Body::flywheel("flywheel", p.flywheel_mass, p.flywheel_inertia, 0),
+        ],
         vec![ShapeInstance {
             name: "disc".into(),
             body: 0,
@@ -69,11 +53,7 @@ pub fn robbit_model(p: &RobbitParams) -> Result<Model> {
         Terrain::flat(0.0),
         vec![],
         Vec2::new(0.0, -p.gravity),
-        ContactMaterial {
-            friction: p.friction,
-            restitution_normal: 0.0,
-            restitution_tangent: 0.0,
-        },
+        ContactMaterial::inelastic(p.friction),
     )
     .map_err(|e| AnalysisError::Stepper(e.to_string()))
 }
@@ -200,7 +180,7 @@ pub fn simulate(
             ..StepSettings::default()
         },
     );
-    let inner = MomentumImpulse::new(
+    let mut controller = MomentumImpulse::new(
         MomentumImpulseConfig {
             flywheel: FLYWHEEL,
             torque: control.torque,
@@ -210,7 +190,6 @@ pub fn simulate(
         },
         &model,
     );
-    let mut controller = inner;
     let mut state = initial;
     stepper.start(&model, &state);
     let shapes_active = vec![true; model.shapes.len()];
@@ -227,6 +206,7 @@ pub fn simulate(
         let input = ControlInput {
             model: &model,
             state: &state,
+            dt: settings.dt,
             kinematics: stepper.workspace(),
             in_contact,
             shapes_active: &shapes_active,

@@ -12,34 +12,18 @@ use hopsim_analysis::robbit_stepper::{
     compare, section_state, simulate, simulate_from_rest, GaitTolerance, StepperSettings,
 };
 use hopsim_analysis::template::{self, BodyState, TemplateCase, TemplateParams};
-use hopsim_model::{
-    Body, ContactMaterial, Model, Shape, ShapeInstance, Terrain, TerrainFeature, Vec2,
-};
+use hopsim_model::{ContactMaterial, Model, Shape, Terrain, TerrainFeature, Vec2};
 use hopsim_step::{Actuation, ImpulseCommand, State, StepSettings, Stepper};
 use nalgebra::DVector;
 use std::f64::consts::PI;
 
 fn single_body(mass: f64, inertia: f64, shape: Shape, terrain: Terrain, friction: f64) -> Model {
-    Model::new(
-        vec![Body {
-            name: "body".into(),
-            mass,
-            inertia,
-            joint: None,
-        }],
-        vec![ShapeInstance {
-            name: "shape".into(),
-            body: 0,
-            shape,
-        }],
+    Model::single_body(
+        mass,
+        inertia,
+        shape,
         terrain,
-        vec![],
-        Vec2::new(0.0, -9.81),
-        ContactMaterial {
-            friction,
-            restitution_normal: 0.0,
-            restitution_tangent: 0.0,
-        },
+        ContactMaterial::inelastic(friction),
     )
     .expect("model")
 }

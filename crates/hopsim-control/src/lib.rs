@@ -18,6 +18,9 @@ pub struct ControlInput<'a> {
     pub model: &'a Model,
     /// State at the start of the step.
     pub state: &'a State,
+    /// Step size `Δt`, s: the step runs from `state.t` to `state.t + Δt`, and the forces of
+    /// the midpoint scheme act at `t^M = state.t + Δt/2` (physics.md §4).
+    pub dt: f64,
     /// Kinematics at the start of the step.
     pub kinematics: &'a Workspace,
     /// Whether any contact carried a normal percussion in the previous step.

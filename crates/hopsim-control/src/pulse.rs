@@ -3,15 +3,11 @@
 use crate::{shape_gap, CaneMode, ControlEvent, ControlInput, Controller, PulseConfig};
 use hopsim_step::{Actuation, TorqueCommand};
 
-/// The schedule is read at the start of each step, `t^A`, a time accumulated step by step.
-/// A step that starts on a switching time (`k P`, `k P + pulse_duration`, `(k + CD) P`, …)
-/// has, after that accumulation, a `t^A` a few ulps before or after it, and would fall on
-/// either side at random. Reading the schedule at `t^A + SCHEDULE_SNAP` puts every such step
-/// after the switch, so a pulse lasts the same number of steps in every period when the
-/// step divides the switching times (scenes/canebot.toml: `Δt = P/1800`). 1 ns is far above
-/// the accumulated round-off of `t` (~1e-12 s after 10⁶ steps) and far below any step size.
-pub const SCHEDULE_SNAP: f64 = 1e-9;
-
+/// The schedule is read at each step's midpoint time `t^M = t^A + Δt/2`, where the midpoint
+/// scheme evaluates its forces (physics.md §4). A step never straddles a switching time
+/// ambiguously: when `Δt` divides the switching times (scenes/canebot.toml: `Δt = P/1800`)
+/// every midpoint lies half a step away from them, and each pulse lasts the same number of
+/// steps in every period.
 /// `+T` for `pulse_duration`, `-T` for `pulse_duration`, then idle, every period `P`;
 /// the cane follows its schedule but cannot extend while its tip is in the ground.
 pub struct Pulse {
@@ -26,7 +22,7 @@ impl Pulse {
     /// Motor torque at time `t`.
     pub fn torque_at(&self, t: f64) -> f64 {
         let c = &self.config;
-        let phase = (t + SCHEDULE_SNAP).rem_euclid(c.period);
+        let phase = t.rem_euclid(c.period);
         if phase < c.pulse_duration {
             c.torque
         } else if phase < 2.0 * c.pulse_duration {
@@ -42,7 +38,7 @@ impl Pulse {
             CaneMode::Retracted => false,
             CaneMode::Extended => true,
             CaneMode::Timed { delay, duration } => {
-                let fraction = ((t + SCHEDULE_SNAP) / self.config.period).rem_euclid(1.0);
+                let fraction = (t / self.config.period).rem_euclid(1.0);
                 (fraction - delay).rem_euclid(1.0) < duration
             }
         }
@@ -56,7 +52,7 @@ impl Controller for Pulse {
         actuation: &mut Actuation,
         events: &mut Vec<ControlEvent>,
     ) {
-        let t = input.state.t;
+        let t = input.state.t + 0.5 * input.dt;
         let joint = input.model.bodies[self.config.joint_body].joint.as_ref();
         actuation.torques.push(TorqueCommand {
             body: self.config.joint_body,
@@ -104,22 +100,22 @@ mod tests {
         }
     }
 
-    /// With `Δt = P/1800` (pulse = 504 steps, CD = 0.1: 180 steps) and `t` accumulated
-    /// step by step as the stepper does, every period has exactly 504 steps of `+T`, 504 of
-    /// `−T` and the cane extended for exactly 900 steps from step 180: the round-off of `t`
-    /// at the switching times does not shift a switch by a step.
+    /// With `Δt = P/1800` (pulse = 504 steps, CD = 0.1: 180 steps) and the schedule read at
+    /// the midpoints `t_start + (k + ½) Δt` the stepper's times give, every period has exactly
+    /// 504 steps of `+T`, 504 of `−T` and the cane extended for exactly 900 steps from step
+    /// 180: no switch moves by a step with round-off.
     #[test]
-    fn schedule_switches_on_the_step_grid_despite_round_off() {
+    fn schedule_switches_on_the_step_grid() {
         let period = 1.0 / 2.8;
         let dt = period / 1800.0;
         let p = pulse(CaneMode::Timed {
             delay: 0.1,
             duration: 0.5,
         });
-        let mut t = 0.0;
         for k in 0..40 {
             let (mut plus, mut minus, mut cane, mut first_cane) = (0, 0, 0, None);
             for step in 0..1800 {
+                let t = (k * 1800 + step) as f64 * dt + 0.5 * dt;
                 match p.torque_at(t) {
                     x if x > 0.0 => plus += 1,
                     x if x < 0.0 => minus += 1,
@@ -129,7 +125,6 @@ mod tests {
                     cane += 1;
                     first_cane.get_or_insert(step);
                 }
-                t += dt;
             }
             assert_eq!((plus, minus), (504, 504), "period {k}");
             assert_eq!((cane, first_cane), (900, Some(180)), "period {k}");

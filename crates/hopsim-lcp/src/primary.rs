@@ -96,79 +96,57 @@ macro_rules! by_size {
     }};
 }
 
-#[allow(clippy::too_many_arguments)]
-fn primary_portable(
-    work: &mut Work,
-    m_copy: &mut [f64],
-    m: &DMatrixView<'_, f64>,
-    q: &[f64],
-    z: &mut [f64],
-    w: &mut [f64],
-    s: &Settings,
-    out: &mut Primary,
-) -> Result<(), LcpInputError> {
-    let n = q.len();
-    by_size!(
-        n,
-        fixed_portable,
-        core(n, work, m_copy, m, q, z, w, s, out),
-        (work, m_copy, m, q, z, w, s, out)
-    )
+/// Defines the hot path's entry `$entry` (dispatching on `n`) and its per-size copies
+/// `$fixed::<N>`, all compiled with the attributes `$attr` (e.g. a target feature): one
+/// body for every instruction set.
+macro_rules! hot_path {
+    ($(#[$attr:meta])* $entry:ident, $fixed:ident) => {
+        $(#[$attr])*
+        #[allow(clippy::too_many_arguments)]
+        fn $entry(
+            work: &mut Work,
+            m_copy: &mut [f64],
+            m: &DMatrixView<'_, f64>,
+            q: &[f64],
+            z: &mut [f64],
+            w: &mut [f64],
+            s: &Settings,
+            out: &mut Primary,
+        ) -> Result<(), LcpInputError> {
+            let n = q.len();
+            by_size!(
+                n,
+                $fixed,
+                core(n, work, m_copy, m, q, z, w, s, out),
+                (work, m_copy, m, q, z, w, s, out)
+            )
+        }
+
+        $(#[$attr])*
+        #[allow(clippy::too_many_arguments)]
+        #[inline(never)]
+        fn $fixed<const N: usize>(
+            work: &mut Work,
+            m_copy: &mut [f64],
+            m: &DMatrixView<'_, f64>,
+            q: &[f64],
+            z: &mut [f64],
+            w: &mut [f64],
+            s: &Settings,
+            out: &mut Primary,
+        ) -> Result<(), LcpInputError> {
+            core(N, work, m_copy, m, q, z, w, s, out)
+        }
+    };
 }
 
-#[allow(clippy::too_many_arguments)]
-#[inline(never)]
-fn fixed_portable<const N: usize>(
-    work: &mut Work,
-    m_copy: &mut [f64],
-    m: &DMatrixView<'_, f64>,
-    q: &[f64],
-    z: &mut [f64],
-    w: &mut [f64],
-    s: &Settings,
-    out: &mut Primary,
-) -> Result<(), LcpInputError> {
-    core(N, work, m_copy, m, q, z, w, s, out)
-}
-
-#[allow(clippy::too_many_arguments)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn primary_avx2(
-    work: &mut Work,
-    m_copy: &mut [f64],
-    m: &DMatrixView<'_, f64>,
-    q: &[f64],
-    z: &mut [f64],
-    w: &mut [f64],
-    s: &Settings,
-    out: &mut Primary,
-) -> Result<(), LcpInputError> {
-    let n = q.len();
-    by_size!(
-        n,
-        fixed_avx2,
-        core(n, work, m_copy, m, q, z, w, s, out),
-        (work, m_copy, m, q, z, w, s, out)
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-fn fixed_avx2<const N: usize>(
-    work: &mut Work,
-    m_copy: &mut [f64],
-    m: &DMatrixView<'_, f64>,
-    q: &[f64],
-    z: &mut [f64],
-    w: &mut [f64],
-    s: &Settings,
-    out: &mut Primary,
-) -> Result<(), LcpInputError> {
-    core(N, work, m_copy, m, q, z, w, s, out)
-}
+hot_path!(primary_portable, fixed_portable);
+hot_path!(
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    primary_avx2,
+    fixed_avx2
+);
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]

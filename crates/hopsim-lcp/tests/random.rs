@@ -4,7 +4,7 @@
 
 mod common;
 
-use hopsim_lcp::{LcpSolution, LcpStatus, LemkeOptions, LemkeSolver};
+use hopsim_lcp::{LcpSolution, LcpStatus, LemkeSolver};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 
@@ -57,8 +57,7 @@ proptest! {
         let q = DVector::from_vec(q);
         let sols = common::brute_force(&m, &q, 1e-9);
         prop_assert_eq!(sols.len(), 1, "a P-matrix LCP has a unique solution");
-        let options = LemkeOptions { fallback: false, ..LemkeOptions::default() };
-        let sol = LemkeSolver::new(options).solve(m.as_view(), q.as_view()).unwrap().clone();
+        let sol = common::solve_with(common::no_fallback(), &m, &q);
         check_solution(&m, &q, &sol, 1e-9)?;
         prop_assert!((&sol.z - &sols[0]).amax() <= 1e-7 * (1.0 + sols[0].amax()), "z = {}, brute force {}", sol.z, sols[0]);
     }
@@ -74,8 +73,7 @@ proptest! {
         let q = DVector::from_vec(q);
         let sols = common::brute_force(&m, &q, 1e-9);
         prop_assert_eq!(sols.len(), 1);
-        let options = LemkeOptions { fallback: false, ..LemkeOptions::default() };
-        let sol = LemkeSolver::new(options).solve(m.as_view(), q.as_view()).unwrap().clone();
+        let sol = common::solve_with(common::no_fallback(), &m, &q);
         check_solution(&m, &q, &sol, 1e-9)?;
         prop_assert!((&sol.z - &sols[0]).amax() <= 1e-7 * (1.0 + sols[0].amax()));
     }
@@ -124,14 +122,7 @@ proptest! {
 #[test]
 fn robbit_two_contact_lcp_solves_with_lemke_alone() {
     let (m, q) = common::robbit_two_contacts();
-    let options = LemkeOptions {
-        fallback: false,
-        ..LemkeOptions::default()
-    };
-    let sol = LemkeSolver::new(options)
-        .solve(m.as_view(), q.as_view())
-        .unwrap()
-        .clone();
+    let sol = common::solve_with(common::no_fallback(), &m, &q);
     assert_eq!(sol.status, LcpStatus::Solved);
     assert!(sol.certificate.holds());
     // The step corner takes the impact; the ground contact opens (Λ_N1 = 0, ξ_N1 > 0).

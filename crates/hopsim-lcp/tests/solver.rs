@@ -30,13 +30,6 @@ fn assert_solves(m: &DMatrix<f64>, q: &DVector<f64>, sol: &LcpSolution, tol: f64
     }
 }
 
-fn no_fallback() -> LemkeOptions {
-    LemkeOptions {
-        fallback: false,
-        ..LemkeOptions::default()
-    }
-}
-
 #[test]
 fn one_by_one_solvable() {
     let (m, q) = (dmatrix![2.0], dvector![-1.0]);
@@ -52,11 +45,8 @@ fn one_by_one_solvable() {
 fn one_by_one_unsolvable_is_a_ray_not_a_solution() {
     // w = −z − 1 < 0 for every z ≥ 0: no solution exists, so no fallback can find one.
     let (m, q) = (dmatrix![-1.0], dvector![-1.0]);
-    for options in [LemkeOptions::default(), no_fallback()] {
-        let sol = LemkeSolver::new(options)
-            .solve(m.as_view(), q.as_view())
-            .unwrap()
-            .clone();
+    for options in [LemkeOptions::default(), common::no_fallback()] {
+        let sol = common::solve_with(options, &m, &q);
         assert_eq!(sol.status, LcpStatus::RayTermination);
         assert!(!sol.certificate.holds());
         assert_eq!(sol.method, SolveMethod::Lemke);
@@ -121,10 +111,7 @@ fn infeasible_problems_report_ray_termination() {
 fn alternate_covering_rescues_a_ray_from_the_default_covering() {
     // A solvable LCP (z = (2, 3)) on which Lemke with d = 1 ends on a ray.
     let (m, q) = (dmatrix![-1.0, 1.0; -1.0, 0.0], dvector![-1.0, 2.0]);
-    let plain = LemkeSolver::new(no_fallback())
-        .solve(m.as_view(), q.as_view())
-        .unwrap()
-        .clone();
+    let plain = common::solve_with(common::no_fallback(), &m, &q);
     assert_eq!(plain.status, LcpStatus::RayTermination);
     let sol = solve_lcp(&m, &q).unwrap();
     assert_solves(&m, &q, &sol, 1e-12);
@@ -144,10 +131,7 @@ fn enumeration_finds_what_lemke_cannot() {
         enumeration_limit: 1,
         ..LemkeOptions::default()
     };
-    let sol = LemkeSolver::new(limited)
-        .solve(m.as_view(), q.as_view())
-        .unwrap()
-        .clone();
+    let sol = common::solve_with(limited, &m, &q);
     assert_eq!(
         sol.status,
         LcpStatus::RayTermination,
@@ -171,13 +155,9 @@ fn murty_exponential_example_takes_two_to_the_n_pivots_and_solves() {
         let (m, q) = murty(n);
         let options = LemkeOptions {
             max_pivots: Some(1 << (n + 1)),
-            fallback: false,
-            ..LemkeOptions::default()
+            ..common::no_fallback()
         };
-        let sol = LemkeSolver::new(options)
-            .solve(m.as_view(), q.as_view())
-            .unwrap()
-            .clone();
+        let sol = common::solve_with(options, &m, &q);
         assert_solves(&m, &q, &sol, 1e-9);
         assert_eq!(sol.pivots, 1 << n, "n = {n}");
         let mut e1 = DVector::zeros(n);
@@ -189,10 +169,7 @@ fn murty_exponential_example_takes_two_to_the_n_pivots_and_solves() {
 #[test]
 fn murty_example_beyond_the_default_pivot_limit_still_solves_by_fallback() {
     let (m, q) = murty(12);
-    let plain = LemkeSolver::new(no_fallback())
-        .solve(m.as_view(), q.as_view())
-        .unwrap()
-        .clone();
+    let plain = common::solve_with(common::no_fallback(), &m, &q);
     assert_eq!(plain.status, LcpStatus::PivotLimit);
     assert_eq!(plain.pivots, 50 * 12 + 100);
     let sol = solve_lcp(&m, &q).unwrap();
@@ -204,13 +181,9 @@ fn murty_example_beyond_the_default_pivot_limit_still_solves_by_fallback() {
 fn zero_pivot_limit_reports_pivot_limit() {
     let options = LemkeOptions {
         max_pivots: Some(0),
-        fallback: false,
-        ..LemkeOptions::default()
+        ..common::no_fallback()
     };
-    let sol = LemkeSolver::new(options)
-        .solve(dmatrix![1.0].as_view(), dvector![-1.0].as_view())
-        .unwrap()
-        .clone();
+    let sol = common::solve_with(options, &dmatrix![1.0], &dvector![-1.0]);
     assert_eq!((sol.status, sol.pivots), (LcpStatus::PivotLimit, 0));
 }
 
@@ -256,10 +229,7 @@ fn degenerate_problems_terminate_with_a_valid_certificate() {
         assert_solves(m, q, &sol, 1e-9);
         // Without fallbacks: Lemke alone solves all but case 4, whose zero column makes it
         // end on a ray at once (z3 enters with an all-zero column); it must say so.
-        let plain = LemkeSolver::new(no_fallback())
-            .solve(m.as_view(), q.as_view())
-            .unwrap()
-            .clone();
+        let plain = common::solve_with(common::no_fallback(), m, q);
         if i == 4 {
             assert_eq!(plain.status, LcpStatus::RayTermination);
             assert_eq!(sol.method, SolveMethod::LemkeAlternateCovering);
@@ -277,10 +247,7 @@ fn covering_vector_is_configurable_and_validated() {
         covering: Some(vec![3.0, 0.5]),
         ..LemkeOptions::default()
     };
-    let sol = LemkeSolver::new(options)
-        .solve(m.as_view(), q.as_view())
-        .unwrap()
-        .clone();
+    let sol = common::solve_with(options, &m, &q);
     assert_solves(&m, &q, &sol, 1e-12);
     for (covering, expected) in [
         (vec![1.0], LcpInputError::CoveringLength { n: 2, len: 1 }),

@@ -38,3 +38,33 @@ pub struct Body {
     /// `None` for the floating base (body 0), the joint for every other body.
     pub joint: Option<Joint>,
 }
+
+impl Body {
+    /// The floating base (body 0): a body without a joint.
+    pub fn base(name: impl Into<String>, mass: f64, inertia: f64) -> Self {
+        Self {
+            name: name.into(),
+            mass,
+            inertia,
+            joint: None,
+        }
+    }
+
+    /// A flywheel on `parent`: an undamped joint at the parent's centre of mass, which is
+    /// also the flywheel's own centre of mass, with an absolute-angle coordinate (Robbit's
+    /// `ψ`, physics.md §5.3).
+    pub fn flywheel(name: impl Into<String>, mass: f64, inertia: f64, parent: usize) -> Self {
+        Self {
+            name: name.into(),
+            mass,
+            inertia,
+            joint: Some(Joint {
+                parent,
+                pivot_in_parent: Vec2::zeros(),
+                com_in_child: Vec2::zeros(),
+                coordinate: JointCoordinate::Absolute,
+                damping: 0.0,
+            }),
+        }
+    }
+}

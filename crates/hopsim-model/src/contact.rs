@@ -16,13 +16,21 @@ pub struct ContactMaterial {
     pub restitution_tangent: f64,
 }
 
-impl Default for ContactMaterial {
-    fn default() -> Self {
+impl ContactMaterial {
+    /// A perfectly inelastic contact (`ε_N = ε_T = 0`) with friction coefficient `friction`.
+    pub fn inelastic(friction: f64) -> Self {
         Self {
-            friction: 1.0,
+            friction,
             restitution_normal: 0.0,
             restitution_tangent: 0.0,
         }
+    }
+}
+
+impl Default for ContactMaterial {
+    /// Inelastic, `μ = 1`.
+    fn default() -> Self {
+        Self::inelastic(1.0)
     }
 }
 

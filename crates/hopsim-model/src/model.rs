@@ -3,7 +3,7 @@
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
-use crate::{Body, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2, Workspace};
+use crate::{Body, Shape, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2, Workspace};
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
 
 /// What makes a model impossible to build.
@@ -79,6 +79,30 @@ impl Model {
             springs,
             gravity,
         })
+    }
+
+    /// The smallest model: one floating body named `body` carrying one shape named
+    /// `shape`, on `terrain`, under gravity `(0, −9.81)` m/s², without springs. Shared by
+    /// the tests of the model, the stepper and the reduced models.
+    pub fn single_body(
+        mass: f64,
+        inertia: f64,
+        shape: Shape,
+        terrain: Terrain,
+        material: ContactMaterial,
+    ) -> Result<Self, ModelError> {
+        Self::new(
+            vec![Body::base("body", mass, inertia)],
+            vec![ShapeInstance {
+                name: "shape".into(),
+                body: 0,
+                shape,
+            }],
+            terrain,
+            vec![],
+            Vec2::new(0.0, -9.81),
+            material,
+        )
     }
 
     /// Number of generalised coordinates: 3 for the base plus one per joint.
@@ -377,7 +401,6 @@ fn check_bodies(bodies: &[Body]) -> Result<(), ModelError> {
 }
 
 fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError> {
-    use crate::Shape;
     for s in shapes {
         if s.body >= count {
             return Err(ModelError::UnknownBody {

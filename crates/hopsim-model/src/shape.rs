@@ -29,6 +29,17 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// An axis-aligned rectangle (a polygon) centred at `center` in the body frame, with
+    /// its vertices counter-clockwise from the lower left.
+    pub fn rectangle(center: Vec2, half_width: f64, half_height: f64) -> Self {
+        let (w, h) = (half_width, half_height);
+        Shape::Polygon {
+            vertices: [(-w, -h), (w, -h), (w, h), (-w, h)]
+                .map(|(x, y)| center + Vec2::new(x, y))
+                .to_vec(),
+        }
+    }
+
     /// Number of corner points that can touch the terrain on their own (polygon
     /// vertices, the two arc end points, the point itself).
     pub fn vertex_count(&self) -> usize {

@@ -3,9 +3,7 @@
 //! refinement, by point-segment distances and by parry2d's GJK/EPA queries; and the
 //! clearance of every shape above a step, from all its candidates together.
 
-use hopsim_model::{
-    Body, ContactMaterial, Model, Shape, ShapeInstance, Terrain, TerrainFeature, Vec2, Workspace,
-};
+use hopsim_model::{ContactMaterial, Model, Shape, Terrain, TerrainFeature, Vec2, Workspace};
 use nalgebra::DVector;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query::details::distance_support_map_support_map;
@@ -14,24 +12,7 @@ use parry2d_f64::shape::{Ball, ConvexPolygon, SupportMap};
 use proptest::prelude::*;
 
 fn model(shape: Shape, terrain: Terrain) -> Model {
-    Model::new(
-        vec![Body {
-            name: "body".into(),
-            mass: 1.0,
-            inertia: 0.01,
-            joint: None,
-        }],
-        vec![ShapeInstance {
-            name: "shape".into(),
-            body: 0,
-            shape,
-        }],
-        terrain,
-        vec![],
-        Vec2::new(0.0, -9.81),
-        ContactMaterial::default(),
-    )
-    .unwrap()
+    Model::single_body(1.0, 0.01, shape, terrain, ContactMaterial::default()).unwrap()
 }
 
 fn workspace(model: &Model, pose: [f64; 3]) -> Workspace {
@@ -194,14 +175,7 @@ fn check_corner(shape: Shape, pose: [f64; 3], reference: f64) -> Result<(), Test
 /// corner does belong to the face.
 #[test]
 fn a_step_face_does_not_claim_points_behind_the_top() {
-    let square = Shape::Polygon {
-        vertices: vec![
-            Vec2::new(-0.05, -0.05),
-            Vec2::new(0.05, -0.05),
-            Vec2::new(0.05, 0.05),
-            Vec2::new(-0.05, 0.05),
-        ],
-    };
+    let square = Shape::rectangle(Vec2::zeros(), 0.05, 0.05);
     let m = model(square, Terrain::step(-0.3, 0.1));
     let touching = |pose: [f64; 3]| -> Vec<(usize, f64)> {
         let ws = workspace(&m, pose);

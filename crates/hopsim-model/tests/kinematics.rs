@@ -20,12 +20,7 @@ fn tree(offsets: [f64; 6], damping: f64) -> Model {
     };
     let [a, b, c, d, e, f] = offsets;
     let bodies = vec![
-        Body {
-            name: "base".into(),
-            mass: 1.3,
-            inertia: 0.02,
-            joint: None,
-        },
+        Body::base("base", 1.3, 0.02),
         Body {
             name: "thigh".into(),
             mass: 0.7,
@@ -222,23 +217,12 @@ proptest! {
 
 #[test]
 fn polygons_must_be_convex_and_counter_clockwise() {
-    let body = Body {
-        name: "box".into(),
-        mass: 1.0,
-        inertia: 0.1,
-        joint: None,
-    };
     let build = |vertices: Vec<Vec2>| {
-        Model::new(
-            vec![body.clone()],
-            vec![ShapeInstance {
-                name: "p".into(),
-                body: 0,
-                shape: Shape::Polygon { vertices },
-            }],
+        Model::single_body(
+            1.0,
+            0.1,
+            Shape::Polygon { vertices },
             Terrain::flat(0.0),
-            vec![],
-            Vec2::new(0.0, -9.81),
             ContactMaterial::default(),
         )
     };

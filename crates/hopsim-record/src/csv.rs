@@ -2,19 +2,9 @@
 
 use crate::frame::FrameLayout;
 use crate::geometry::CoordinateUnit;
-use crate::{AtomicFile, Event, Frame, RecordError, Recorder, RecordingInfo};
+use crate::{AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Energy columns, in the order of [`crate::EnergySample`]'s fields.
-const ENERGY_COLUMNS: [&str; 6] = [
-    "kinetic_J",
-    "potential_J",
-    "spring_J",
-    "actuator_work_J",
-    "dissipated_J",
-    "balance_error_J",
-];
 
 /// Writes `FILE.csv` with one row per recorded frame and `FILE.events.csv` with one row per
 /// event (docs/recording.md), both atomically. Numbers are written in their shortest
@@ -38,7 +28,7 @@ pub(crate) fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     columns.extend(units().map(|(n, unit)| format!("{n}_{}", unit.position())));
     columns.extend(units().map(|(n, unit)| format!("{n}_dot_{}", unit.velocity())));
     columns.extend(["com_x_m", "com_y_m"].map(String::from));
-    columns.extend(ENERGY_COLUMNS.map(String::from));
+    columns.extend(EnergySample::NAMES.map(|name| format!("{name}_J")));
     columns.push("actuator_torque_Nm".into());
     columns
 }
@@ -83,20 +73,18 @@ impl Recorder for CsvRecorder {
         self.layout
             .check(frame)
             .map_err(|m| RecordError::format(self.frames.path(), m))?;
-        let e = &frame.energy;
-        let tail = [
-            e.kinetic,
-            e.potential,
-            e.spring,
-            e.actuator_work,
-            e.dissipated,
-            e.balance_error,
-            frame.actuator_torque,
+        let energies = frame.energy.values();
+        let columns = [
+            frame.q,
+            frame.u,
+            &frame.com,
+            &energies,
+            &[frame.actuator_torque],
         ];
         let w = &mut self.frames;
         let mut row = || -> std::io::Result<()> {
             write!(w, "{:?},{}", frame.t, frame.step)?;
-            for x in frame.q.iter().chain(frame.u).chain(&frame.com).chain(&tail) {
+            for x in columns.into_iter().flatten() {
                 write!(w, ",{x:?}")?;
             }
             writeln!(w)

@@ -75,6 +75,43 @@ pub struct EnergySample {
     pub balance_error: f64,
 }
 
+impl EnergySample {
+    /// The field names, in the order of [`EnergySample::values`].
+    pub const NAMES: [&'static str; 6] = [
+        "kinetic",
+        "potential",
+        "spring",
+        "actuator_work",
+        "dissipated",
+        "balance_error",
+    ];
+
+    /// The energies of a step's ledger (physics.md §6).
+    pub fn from_ledger(e: &hopsim_step::EnergyLedger) -> Self {
+        Self {
+            kinetic: e.kinetic,
+            potential: e.potential,
+            spring: e.spring,
+            actuator_work: e.actuator_work,
+            dissipated: e.dissipated(),
+            balance_error: e.balance_error(),
+        }
+    }
+
+    /// The energies in the order of [`EnergySample::NAMES`] (the column order of the
+    /// recordings).
+    pub fn values(&self) -> [f64; 6] {
+        [
+            self.kinetic,
+            self.potential,
+            self.spring,
+            self.actuator_work,
+            self.dissipated,
+            self.balance_error,
+        ]
+    }
+}
+
 /// One recorded instant.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame<'a> {

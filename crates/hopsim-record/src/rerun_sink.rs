@@ -5,7 +5,7 @@
 use crate::atomic::temporary_file_for;
 use crate::frame::FrameLayout;
 use crate::geometry::{terrain_pieces, to_world, Outline, Point};
-use crate::{Event, EventKind, Frame, RecordError, Recorder, RecordingInfo};
+use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo};
 use hopsim_model::Terrain;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, TextLogView, TimeSeriesView, Vertical,
@@ -133,19 +133,7 @@ impl RerunRecorder {
         let series = [
             (PLOT_POSITION, positions.to_vec()),
             (PLOT_ANGLE, angles.to_vec()),
-            (
-                PLOT_ENERGY,
-                [
-                    "kinetic",
-                    "potential",
-                    "spring",
-                    "actuator_work",
-                    "dissipated",
-                    "balance_error",
-                ]
-                .map(String::from)
-                .to_vec(),
-            ),
+            (PLOT_ENERGY, EnergySample::NAMES.map(String::from).to_vec()),
             (PLOT_NORMAL_IMPULSE, info.contacts.clone()),
             (PLOT_TANGENT_IMPULSE, info.contacts.clone()),
             (PLOT_TORQUE, vec!["actuator_torque".to_string()]),
@@ -275,16 +263,7 @@ impl RerunRecorder {
         if frame.q.len() > split {
             self.log(PLOT_ANGLE, &Scalars::new(frame.q[split..].iter().copied()))?;
         }
-        let e = &frame.energy;
-        let energies = [
-            e.kinetic,
-            e.potential,
-            e.spring,
-            e.actuator_work,
-            e.dissipated,
-            e.balance_error,
-        ];
-        self.log(PLOT_ENERGY, &Scalars::new(energies))?;
+        self.log(PLOT_ENERGY, &Scalars::new(frame.energy.values()))?;
         self.log(PLOT_TORQUE, &Scalars::single(frame.actuator_torque))?;
         if !self.drawing.impulses.is_empty() {
             for (component, entity) in [(0, PLOT_NORMAL_IMPULSE), (1, PLOT_TANGENT_IMPULSE)] {
@@ -451,7 +430,9 @@ impl Drawing {
         if !x.is_finite() {
             return false;
         }
-        let margin = (20.0 * self.robot_size_m).max(2.0);
+        // A few robot sizes: the 2D view fits what it shows, so a long terrain line would
+        // shrink the robot to a dot.
+        let margin = (3.0 * self.robot_size_m).max(0.5);
         let (lo, hi) = self.terrain_range;
         if lo.is_finite() && x - lo >= 0.5 * margin && hi - x >= 0.5 * margin {
             return false;
@@ -638,13 +619,13 @@ mod tests {
         });
         assert!(drawing.cover(0.0));
         let (lo, hi) = drawing.terrain_range;
-        assert!(lo <= -2.0 && hi >= 2.0);
-        assert!(!drawing.cover(0.5), "well inside: no redraw");
+        assert!(lo <= -0.5 && hi >= 0.5);
+        assert!(!drawing.cover(0.1), "well inside: no redraw");
         let redraws = (0..10_000)
             .filter(|&k| drawing.cover(k as f64 * 1e-2))
             .count();
-        assert!(redraws <= 8, "{redraws} redraws over 100 m");
-        assert!(drawing.terrain_range.1 >= 100.0 && drawing.terrain_range.0 <= -2.0);
+        assert!(redraws <= 10, "{redraws} redraws over 100 m");
+        assert!(drawing.terrain_range.1 >= 100.0 && drawing.terrain_range.0 <= -0.5);
         assert_eq!(drawing.arrow_scale_m_per_n, FALLBACK_ARROW_SCALE_M_PER_N);
     }
 }

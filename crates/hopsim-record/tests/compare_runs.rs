@@ -29,6 +29,15 @@ struct Runs {
     dir: PathBuf,
 }
 
+impl Runs {
+    /// Records `frames` as the run compared with the reference (`b.mcap`).
+    fn other(&self, frames: &[OwnedFrame]) -> PathBuf {
+        let path = self.dir.join("b.mcap");
+        record(&path, frames);
+        path
+    }
+}
+
 fn runs() -> Runs {
     let dir = tempfile::tempdir().unwrap();
     let reference = dir.path().join("a.mcap");
@@ -43,8 +52,7 @@ fn runs() -> Runs {
 #[test]
 fn identical_recordings_agree() {
     let r = runs();
-    let copy = r.dir.join("b.mcap");
-    record(&copy, &frames(12));
+    let copy = r.other(&frames(12));
     let c = compare_files(&r.reference, &copy, &with_states()).unwrap();
     assert!(c.agree(), "{c}");
     let rec = McapRecording::read(&r.reference).unwrap();
@@ -65,8 +73,7 @@ fn a_changed_impulse_is_named_with_step_time_and_contact() {
     let mut changed = frames(12);
     changed[4].contacts[0].impulse_tangent *= 1.01;
     changed[7].contacts[0].impulse_normal = 0.5;
-    let other = r.dir.join("b.mcap");
-    record(&other, &changed);
+    let other = r.other(&changed);
     let c = compare_files(&r.reference, &other, &CompareOptions::default()).unwrap();
     assert!(!c.agree());
     let d = c.impulses.as_ref().unwrap();
@@ -87,8 +94,7 @@ fn a_changed_state_is_named() {
     let r = runs();
     let mut changed = frames(12);
     changed[3].u[2] += 1e-6;
-    let other = r.dir.join("b.mcap");
-    record(&other, &changed);
+    let other = r.other(&changed);
     let c = compare_files(&r.reference, &other, &with_states()).unwrap();
     assert!(c.impulses.is_none() && !c.agree());
     let Some(Err(StateMismatch::Value(d))) = &c.states else {
@@ -106,8 +112,7 @@ fn a_changed_state_is_named() {
 #[test]
 fn a_shorter_recording_differs_in_its_steps() {
     let r = runs();
-    let other = r.dir.join("b.mcap");
-    record(&other, &frames(10));
+    let other = r.other(&frames(10));
     let c = compare_files(&r.reference, &other, &with_states()).unwrap();
     assert_eq!(
         c.states,

@@ -124,14 +124,7 @@ impl Observer for RecordingObserver {
             contacts: &self.contacts,
             springs: &self.springs,
             shapes_active: &self.shapes_active,
-            energy: EnergySample {
-                kinetic: e.kinetic,
-                potential: e.potential,
-                spring: e.spring,
-                actuator_work: e.actuator_work,
-                dissipated: e.dissipated(),
-                balance_error: e.balance_error(),
-            },
+            energy: EnergySample::from_ledger(&e),
             actuator_torque: view.torque,
         })?;
         Ok(())

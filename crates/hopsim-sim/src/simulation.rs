@@ -108,6 +108,7 @@ impl<'s> Simulation<'s> {
         let input = ControlInput {
             model,
             state: &self.state,
+            dt: self.scene.settings.dt,
             kinematics: self.stepper.workspace(),
             in_contact: self.loaded,
             shapes_active: &self.shapes_active,

@@ -4,7 +4,7 @@ use crate::simulation::RunError;
 use crate::{Observer, Periodicity, PeriodicityOptions, PoincareSection, Simulation, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_model::{Model, Shape, Workspace};
-use hopsim_record::EventKind;
+use hopsim_record::{EnergySample, EventKind};
 use hopsim_scene::Scene;
 use serde::Serialize;
 
@@ -19,12 +19,10 @@ pub struct ImpulseSummary {
 /// Energies at the end of the run and the account's error, J.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct EnergySummary {
-    pub kinetic: f64,
-    pub potential: f64,
-    pub spring: f64,
-    pub actuator_work: f64,
-    pub dissipated: f64,
-    pub balance_error: f64,
+    /// The ledger at the last step.
+    #[serde(flatten)]
+    pub at_end: EnergySample,
+    /// The largest `|balance error|` over all steps.
     pub max_abs_balance_error: f64,
 }
 
@@ -209,12 +207,7 @@ impl SummaryCollector {
             impulse_per_distance: self.impulses.total_ns / distance,
             impulses: self.impulses,
             energy: EnergySummary {
-                kinetic: e.kinetic,
-                potential: e.potential,
-                spring: e.spring,
-                actuator_work: e.actuator_work,
-                dissipated: e.dissipated(),
-                balance_error: e.balance_error(),
+                at_end: EnergySample::from_ledger(&e),
                 max_abs_balance_error: self.max_balance_error,
             },
             max_penetration_m: self.max_penetration,
@@ -283,7 +276,7 @@ impl Observer for SummaryCollector {
 
 impl std::fmt::Display for Summary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let e = &self.energy;
+        let e = &self.energy.at_end;
         let w = self.speed_window_s;
         writeln!(
             f,
@@ -340,7 +333,7 @@ impl std::fmt::Display for Summary {
         writeln!(
             f,
             "                     actuator work {:.4} J, dissipated {:.4} J, balance error {:.2e} J (max {:.2e} J)",
-            e.actuator_work, e.dissipated, e.balance_error, e.max_abs_balance_error
+            e.actuator_work, e.dissipated, e.balance_error, self.energy.max_abs_balance_error
         )?;
         writeln!(
             f,

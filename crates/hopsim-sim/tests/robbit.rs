@@ -1,25 +1,12 @@
 //! Robbit (physics.md §5.3) through the whole run loop: scene file, momentum-impulse
 //! controller, brakes, flight detection and summary.
 
+mod common;
+
+use common::{first_second, repo, run, scene};
 use hopsim_record::EventKind;
-use hopsim_scene::Scene;
-use hopsim_sim::{Observer, RunError, RunOptions, Simulation, StepView, Summary};
-use hopsim_step::{ImpulseTrace, TraceTolerance};
-use std::path::{Path, PathBuf};
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn scene(name: &str) -> Scene {
-    hopsim_scene::load(&repo(&format!("scenes/{name}")), &[]).expect("bundled scene loads")
-}
-
-fn run(scene: &Scene, observer: &mut dyn Observer) -> Summary {
-    hopsim_sim::run(scene, &RunOptions::default(), observer).expect("run completes")
-}
+use hopsim_sim::{Observer, RunError, StepView};
+use hopsim_step::TraceTolerance;
 
 /// Velocities before each step, to look at what a step changed.
 #[derive(Default)]
@@ -118,7 +105,7 @@ impl Observer for BrakeCheck {
 
 #[test]
 fn brakes_exchange_angular_momentum_exactly() {
-    let scene = scene("robbit.toml");
+    let scene = scene("robbit.toml", &[]);
     let m = &scene.model;
     let mut check = BrakeCheck {
         prev: Previous {
@@ -165,7 +152,7 @@ impl Observer for GaitLog {
 /// 1 mm and an energy account that closes.
 #[test]
 fn default_scene_reaches_a_forward_hopping_gait() {
-    let scene = scene("robbit.toml");
+    let scene = scene("robbit.toml", &[]);
     let mut log = GaitLog::default();
     let s = run(&scene, &mut log);
     eprintln!(
@@ -215,7 +202,7 @@ fn shape_variants_all_hop_forward() {
         "robbit-ellipse-wide.toml",
         "robbit-ellipse-narrow.toml",
     ] {
-        let scene = scene(name);
+        let scene = scene(name, &[]);
         let s = run(&scene, &mut ());
         eprintln!(
             "{name}: {:.4} m/s, {} hops, {:.4} m/hop, {:.3e} m max penetration",
@@ -235,42 +222,14 @@ fn shape_variants_all_hop_forward() {
     }
 }
 
-/// Collects the contact and brake impulses of the first `steps` steps.
-struct TraceFirst {
-    steps: u64,
-    trace: ImpulseTrace,
-}
-
-impl Observer for TraceFirst {
-    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
-        if v.record.step <= self.steps {
-            self.trace.push_record(v.model, v.record);
-        }
-        Ok(())
-    }
-}
-
 /// Regression on contact impulses: the brake and contact percussions of the default
 /// scene's first second, against `tests/golden/robbit_first_second.csv` (tolerance:
 /// `TraceTolerance::default()`; regenerate deliberately with `HOPSIM_BLESS=1`).
 #[test]
 fn golden_brake_and_contact_impulses_of_the_first_second() {
-    let scene = scene("robbit.toml");
-    let steps = (1.0 / scene.settings.dt).round() as u64;
-    let mut sim = Simulation::new(&scene);
-    let mut obs = TraceFirst {
-        steps,
-        trace: ImpulseTrace::default(),
-    };
-    for _ in 0..steps {
-        sim.step(&mut obs).unwrap();
-    }
-    assert!(obs
-        .trace
-        .samples
-        .iter()
-        .any(|s| s.channel.starts_with("lock:")));
-    obs.trace
+    let trace = first_second(&scene("robbit.toml", &[]));
+    assert!(trace.samples.iter().any(|s| s.channel.starts_with("lock:")));
+    trace
         .check_golden(
             &repo("tests/golden/robbit_first_second.csv"),
             TraceTolerance::default(),

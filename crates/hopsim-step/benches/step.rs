@@ -5,31 +5,47 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hopsim_step::{Actuation, TorqueCommand};
+use hopsim_model::Model;
+use hopsim_step::{Actuation, State, Stepper};
 use std::hint::black_box;
+
+/// Steps from `start` under `act`, restarting every 1000 steps so that the robot stays in
+/// stance.
+fn bench_stance(
+    c: &mut Criterion,
+    name: &str,
+    model: &Model,
+    stepper: &mut Stepper,
+    start: &State,
+    act: &Actuation,
+) {
+    stepper.start(model, start);
+    let mut state = start.clone();
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            if stepper.record().step.is_multiple_of(1000) {
+                state.clone_from(start);
+            }
+            let rec = stepper.step(model, &mut state, act).unwrap();
+            black_box(rec.contacts.len());
+        })
+    });
+}
 
 fn robbit_step(c: &mut Criterion) {
     let model = common::robbit();
     let mut stepper = common::stepper(&model, 2e-4);
     let start = common::state(&[0.0, 0.1, 0.0, 0.0], &[0.0; 4]);
     let mut act = Actuation::default();
-    act.torques.push(TorqueCommand {
-        body: 1,
-        reaction: Some(0),
-        torque: 0.16,
-    });
-    stepper.start(&model, &start);
-    let mut state = start.clone();
-    c.bench_function("robbit_step_in_stance", |b| {
-        b.iter(|| {
-            // Restart every 1000 steps so the robot stays in stance.
-            if stepper.record().step.is_multiple_of(1000) {
-                state.clone_from(&start);
-            }
-            let rec = stepper.step(&model, &mut state, &act).unwrap();
-            black_box(rec.contacts.len());
-        })
-    });
+    act.torques.push(common::motor(0.16));
+    bench_stance(
+        c,
+        "robbit_step_in_stance",
+        &model,
+        &mut stepper,
+        &start,
+        &act,
+    );
     let mut flying = common::state(&[0.0, 1.0, 0.0, 0.0], &[0.0; 4]);
     c.bench_function("robbit_step_in_flight", |b| {
         b.iter(|| {
@@ -46,23 +62,9 @@ fn two_body_hopper_step(c: &mut Criterion) {
     let mut stepper = common::stepper(&model, 2e-4);
     let start = common::two_body_hopper_state(&model, 0.0);
     let mut act = Actuation::default();
-    act.torques.push(TorqueCommand {
-        body: 1,
-        reaction: Some(0),
-        torque: 0.2,
-    });
-    stepper.start(&model, &start);
-    let mut state = start.clone();
-    c.bench_function("two_body_hopper_step_in_stance", |b| {
-        b.iter(|| {
-            if stepper.record().step.is_multiple_of(1000) {
-                state.q.copy_from(&start.q);
-                state.u.copy_from(&start.u);
-            }
-            let rec = stepper.step(&model, &mut state, &act).unwrap();
-            black_box(rec.contacts.len());
-        })
-    });
+    act.torques.push(common::motor(0.2));
+    let name = "two_body_hopper_step_in_stance";
+    bench_stance(c, name, &model, &mut stepper, &start, &act);
 }
 
 criterion_group!(benches, robbit_step, two_body_hopper_step);

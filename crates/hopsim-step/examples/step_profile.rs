@@ -12,7 +12,7 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use hopsim_step::{Actuation, TorqueCommand};
+use hopsim_step::Actuation;
 use std::hint::black_box;
 
 fn main() {
@@ -26,11 +26,7 @@ fn main() {
         _ => common::state(&[0.0, 0.1, 0.0, 0.0], &[0.0; 4]),
     };
     let mut act = Actuation::default();
-    act.torques.push(TorqueCommand {
-        body: 1,
-        reaction: Some(0),
-        torque: 0.16,
-    });
+    act.torques.push(common::motor(0.16));
     stepper.start(&model, &start);
     let mut state = start.clone();
     for k in 0..steps {

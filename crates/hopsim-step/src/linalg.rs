@@ -48,17 +48,12 @@ fn factor_row(row_j: &mut [f64], done: &[f64], n: usize, j: usize) -> bool {
     true
 }
 
+/// [`factor_dynamic`] with the size known at compile time (the loops unroll).
 fn factor_fixed<const N: usize>(a: &mut [f64]) -> bool {
-    let a = &mut a[..N * N];
-    for j in 0..N {
-        let (done, rest) = a.split_at_mut(j * N);
-        if !factor_row(&mut rest[..N], done, N, j) {
-            return false;
-        }
-    }
-    true
+    factor_dynamic(N, a)
 }
 
+#[inline(always)]
 fn factor_dynamic(n: usize, a: &mut [f64]) -> bool {
     let a = &mut a[..n * n];
     for j in 0..n {

@@ -43,14 +43,7 @@ fn ball_apex_heights_fall_by_restitution_squared() {
 }
 
 fn square(half: f64) -> Shape {
-    Shape::Polygon {
-        vertices: vec![
-            Vec2::new(-half, -half),
-            Vec2::new(half, -half),
-            Vec2::new(half, half),
-            Vec2::new(-half, half),
-        ],
-    }
+    Shape::rectangle(Vec2::zeros(), half, half)
 }
 
 /// A block sliding at `v0` decelerates at `μ g` and stops after `v0² / (2 μ g)`.

@@ -6,7 +6,7 @@
 mod common;
 use common::*;
 use hopsim_model::Vec2;
-use hopsim_step::{Actuation, ImpulseCommand, TorqueCommand};
+use hopsim_step::{Actuation, ImpulseCommand};
 
 /// Largest |balance error| over the run and the size of the flows at its end, J.
 fn run_hopper(dt: f64, duration: f64) -> (f64, f64, usize, usize) {
@@ -32,11 +32,7 @@ fn run_hopper(dt: f64, duration: f64) -> (f64, f64, usize, usize) {
         } else {
             0.0
         };
-        act.torques.push(TorqueCommand {
-            body: 1,
-            reaction: Some(0),
-            torque,
-        });
+        act.torques.push(motor(torque));
         if every(0.45, s.t) && s.t > 0.0 {
             act.locks.push((1, 0));
         }

@@ -162,11 +162,7 @@ fn runaway_states_are_errors() {
     let mut s = state(&[0.0, 1.0, 0.0, 0.0], &[0.0; 4]);
     st.start(&model, &s);
     let mut act = Actuation::default();
-    act.torques.push(hopsim_step::TorqueCommand {
-        body: 1,
-        reaction: Some(0),
-        torque: 1.0,
-    });
+    act.torques.push(motor(1.0));
     let err = loop {
         match st.step(&model, &mut s, &act) {
             Ok(_) => continue,

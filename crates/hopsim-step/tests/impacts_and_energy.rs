@@ -4,7 +4,7 @@
 mod common;
 use common::*;
 use hopsim_model::{Shape, Terrain, Vec2};
-use hopsim_step::{Actuation, ContactState, State, TorqueCommand};
+use hopsim_step::{Actuation, ContactState, State};
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector3};
 use proptest::prelude::*;
 
@@ -218,11 +218,7 @@ fn robbit_brake_exchanges_momentum_and_the_energy_balance_closes() {
             act.locks.push((0, 1));
             braked = true;
         } else if !braked {
-            act.torques.push(TorqueCommand {
-                body: 1,
-                reaction: Some(0),
-                torque,
-            });
+            act.torques.push(motor(torque));
         }
         let before = s.clone();
         let rec = st.step(&model, &mut s, &act).unwrap();

@@ -5,7 +5,7 @@
 mod common;
 
 use hopsim_model::{Model, Shape, Terrain, Vec2};
-use hopsim_step::{Actuation, ImpulseCommand, State, Stepper, TorqueCommand};
+use hopsim_step::{Actuation, ImpulseCommand, State, Stepper};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -86,14 +86,7 @@ fn flight_steps_do_not_allocate() {
 
 #[test]
 fn multi_contact_steps_at_a_step_corner_do_not_allocate() {
-    let square = Shape::Polygon {
-        vertices: vec![
-            Vec2::new(-0.05, -0.05),
-            Vec2::new(0.05, -0.05),
-            Vec2::new(0.05, 0.05),
-            Vec2::new(-0.05, 0.05),
-        ],
-    };
+    let square = Shape::rectangle(Vec2::zeros(), 0.05, 0.05);
     let ellipse = Shape::Ellipse {
         center: Vec2::zeros(),
         semi_x: 0.08,
@@ -132,11 +125,8 @@ fn two_body_hopper_with_springs_cane_impulses_and_brakes_does_not_allocate() {
     act.locks.reserve(4);
     let count = allocations(3000, 3000, |k| {
         act.clear();
-        act.torques.push(TorqueCommand {
-            body: 1,
-            reaction: Some(0),
-            torque: if k % 2000 < 1000 { 0.4 } else { -0.4 },
-        });
+        act.torques
+            .push(common::motor(if k % 2000 < 1000 { 0.4 } else { -0.4 }));
         if k % 700 == 350 {
             act.locks.push((1, 0));
         }
@@ -172,11 +162,7 @@ fn stepping_robbit_with_contacts_torque_and_a_brake_does_not_allocate() {
             if k % 500 == 499 {
                 act.locks.push((0, 1));
             } else {
-                act.torques.push(TorqueCommand {
-                    body: 1,
-                    reaction: Some(0),
-                    torque: 0.16,
-                });
+                act.torques.push(common::motor(0.16));
             }
             let rec = stepper.step(&model, state, &act).unwrap();
             assert!(rec.step > 0);

@@ -20,6 +20,29 @@ pub struct OutputArgs {
     pub out: Option<PathBuf>,
 }
 
+impl OutputArgs {
+    /// With `--out DIR`: creates `DIR`, lets `write` fill it and returns the files written;
+    /// without `--out`, writes nothing and returns no files.
+    pub fn write_files(
+        &self,
+        write: impl FnOnce(&mut OutDir) -> anyhow::Result<()>,
+    ) -> anyhow::Result<Vec<String>> {
+        let Some(dir) = &self.out else {
+            return Ok(Vec::new());
+        };
+        let mut out = OutDir::create(dir)?;
+        write(&mut out)?;
+        Ok(out.files())
+    }
+}
+
+/// Prints `wrote FILE` for each file written (the last lines of the table output).
+pub fn print_written(files: &[String]) {
+    for f in files {
+        println!("wrote {f}");
+    }
+}
+
 /// An invalid command-line argument (exit code 2).
 #[derive(Debug)]
 pub struct InvalidInput(pub String);
@@ -171,6 +194,20 @@ pub fn num(value: f64, unit: &str) -> String {
     }
 }
 
+/// Several [`num`]s separated by ` / `, e.g. `1.0000 kg / 0.50000 m`.
+pub fn nums(values: &[(f64, &str)]) -> String {
+    values
+        .iter()
+        .map(|&(value, unit)| num(value, unit))
+        .collect::<Vec<_>>()
+        .join(" / ")
+}
+
+/// A range `lo … hi`, both ends formatted with [`num`] in `unit`.
+pub fn num_range(lo: f64, hi: f64, unit: &str) -> String {
+    format!("{} … {}", num(lo, unit), num(hi, unit))
+}
+
 /// `Some(x)` formatted with [`num`], or `fallback`.
 pub fn opt_num(value: Option<f64>, unit: &str, fallback: &str) -> String {
     value.map_or_else(|| fallback.to_string(), |v| num(v, unit))
@@ -188,6 +225,13 @@ pub fn check_finite(name: &str, value: Option<f64>) -> anyhow::Result<()> {
         Some(v) if !v.is_finite() => invalid(format!("--{name} must be a finite number, got {v}")),
         _ => Ok(()),
     }
+}
+
+/// [`check_finite`] for each `(name, value)` in order; the first non-finite one is the error.
+pub fn check_all_finite(values: &[(&str, Option<f64>)]) -> anyhow::Result<()> {
+    values
+        .iter()
+        .try_for_each(|&(name, value)| check_finite(name, value))
 }
 
 /// A progress bar that draws only on a terminal and never in JSON mode.

@@ -16,7 +16,7 @@ use hopsim_analysis::robbit_stepper::{
 use serde_json::{json, Value};
 use std::time::Instant;
 
-use super::common::{self, invalid, num, OutDir, OutputArgs, Table};
+use super::common::{self, invalid, num, num_range, nums, opt_num, OutDir, OutputArgs, Table};
 
 /// Named parameter sets.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -122,7 +122,7 @@ const DEFAULT_GRID: u32 = 30;
 const SIMULATION_WINDOW: usize = 10;
 
 fn params(args: &FixedPointsArgs) -> anyhow::Result<RobbitParams> {
-    for (name, value) in [
+    common::check_all_finite(&[
         ("radius", args.radius),
         ("eccentricity", args.eccentricity),
         ("body-mass", args.body_mass),
@@ -139,9 +139,7 @@ fn params(args: &FixedPointsArgs) -> anyhow::Result<RobbitParams> {
         ("energy-max", Some(args.energy_max)),
         ("dt", Some(args.dt)),
         ("duration", Some(args.duration)),
-    ] {
-        common::check_finite(name, value)?;
-    }
+    ])?;
     let CaseName::Robbit = args.case;
     let base = RobbitParams::default();
     let p = RobbitParams {
@@ -358,6 +356,23 @@ fn simulation_json(p: &RobbitParams, sim: &Simulation) -> Value {
     })
 }
 
+/// `β* = (T*, ζ0*)` of a fixed point, for the tables.
+fn control(fp: &FixedPoint) -> String {
+    nums(&[
+        (fp.control.torque, "N m"),
+        (fp.control.impulse_limit, "N m s"),
+    ])
+}
+
+/// `predicted P, <label> S` in `unit` (`—` for a missing `S`).
+fn versus(predicted: f64, label: &str, simulated: Option<f64>, unit: &str) -> String {
+    format!(
+        "predicted {}, {label} {}",
+        num(predicted, unit),
+        opt_num(simulated, unit, "—")
+    )
+}
+
 fn print_simulation(sim: &Simulation) {
     let fp = &sim.fixed_point;
     let mut t = Table::new(format!(
@@ -366,31 +381,26 @@ fn print_simulation(sim: &Simulation) {
         sim.run.settings.duration,
         sim.run.brakes.len()
     ));
-    t.row(
-        "β* = (T*, ζ0*)",
-        format!(
-            "{} / {}",
-            num(fp.control.torque, "N m"),
-            num(fp.control.impulse_limit, "N m s")
-        ),
-    );
+    t.row("β* = (T*, ζ0*)", control(fp));
     match &sim.comparison {
         Some(c) => {
             let last = sim.run.brakes.last().map(|b| b.state);
             t.row(
                 "take-off angle φ_TO",
-                format!(
-                    "predicted {}, last simulated {}",
-                    num(fp.state.angle, "rad"),
-                    last.map_or("—".into(), |s| num(s.angle, "rad"))
+                versus(
+                    fp.state.angle,
+                    "last simulated",
+                    last.map(|s| s.angle),
+                    "rad",
                 ),
             )
             .row(
                 "take-off rate φ̇_TO",
-                format!(
-                    "predicted {}, last simulated {}",
-                    num(fp.state.angular_velocity, "rad/s"),
-                    last.map_or("—".into(), |s| num(s.angular_velocity, "rad/s"))
+                versus(
+                    fp.state.angular_velocity,
+                    "last simulated",
+                    last.map(|s| s.angular_velocity),
+                    "rad/s",
                 ),
             )
             .row(
@@ -405,18 +415,20 @@ fn print_simulation(sim: &Simulation) {
             )
             .row(
                 "speed",
-                format!(
-                    "predicted {}, simulated {}",
-                    num(c.predicted_speed, "m/s"),
-                    num(c.simulated_speed, "m/s")
+                versus(
+                    c.predicted_speed,
+                    "simulated",
+                    Some(c.simulated_speed),
+                    "m/s",
                 ),
             )
             .row(
                 "period",
-                format!(
-                    "predicted {}, simulated {}",
-                    num(c.predicted_period, "s"),
-                    num(c.simulated_period, "s")
+                versus(
+                    c.predicted_period,
+                    "simulated",
+                    Some(c.simulated_period),
+                    "s",
                 ),
             )
             .row(
@@ -436,6 +448,9 @@ fn print_simulation(sim: &Simulation) {
 }
 
 fn write_simulation(out: &mut OutDir, sim: &Simulation) -> anyhow::Result<()> {
+    let Some(c) = &sim.comparison else {
+        return Ok(());
+    };
     let mut csv = CsvTable::new(&[
         "brake",
         "t_s",
@@ -446,9 +461,6 @@ fn write_simulation(out: &mut OutDir, sim: &Simulation) -> anyhow::Result<()> {
         "angle_error_rad",
         "rate_error_rad_s",
     ]);
-    let Some(c) = &sim.comparison else {
-        return Ok(());
-    };
     for (b, d) in sim.run.brakes.iter().zip(&c.takeoffs) {
         csv.push(vec![
             d.index.into(),
@@ -513,17 +525,15 @@ fn run_point(
         (Some(fp), true) => Some(simulate(args, p, fp)?),
         _ => None,
     };
-    let mut files = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
+    let files = args.output.write_files(|out| {
         let mut csv = grid_csv_table();
         csv.push(grid_csv_row(p, &point));
         out.csv("fixed_point.csv", &csv)?;
-        if let Some(sim) = &sim {
-            write_simulation(&mut out, sim)?;
+        match &sim {
+            Some(sim) => write_simulation(out, sim),
+            None => Ok(()),
         }
-        files = out.files();
-    }
+    })?;
     if args.output.json {
         let mut v = point_json(p, &point);
         if let Some(map) = v.as_object_mut() {
@@ -546,72 +556,58 @@ fn run_point(
     t.row("flywheel at touchdown", p.touchdown.name()).row(
         "section state z = (φ_TO, φ̇_TO)",
         format!(
-            "{} / {} (E_TO {})",
-            num(angle, "rad"),
-            num(z.angular_velocity, "rad/s"),
+            "{} (E_TO {})",
+            nums(&[(angle, "rad"), (z.angular_velocity, "rad/s")]),
             num(energy, "J")
         ),
     );
     match (&point.fixed_point, &point.no_fixed_point) {
         (Some(fp), _) => {
             let c = &fp.cycle;
-            t.row(
-                "β* = (T*, ζ0*)",
-                format!(
-                    "{} / {}",
-                    num(fp.control.torque, "N m"),
-                    num(fp.control.impulse_limit, "N m s")
-                ),
-            )
-            .row(
-                "eigenvalues of ∂P/∂z",
-                format!(
-                    "{}, {}",
-                    complex(&fp.eigenvalues[0]),
-                    complex(&fp.eigenvalues[1])
-                ),
-            )
-            .row(
-                "max |λ|",
-                format!(
-                    "{} ({})",
-                    num(fp.spectral_radius, ""),
-                    if fp.stable { "stable" } else { "unstable" }
-                ),
-            )
-            .row(
-                "speed, stride, period",
-                format!(
-                    "{} / {} / {}",
-                    num(fp.speed(), "m/s"),
-                    num(c.stride, "m"),
-                    num(c.period, "s")
-                ),
-            )
-            .row(
-                "flight, stance",
-                format!(
-                    "{} / {} ({} reversals of φ̇)",
-                    num(c.flight_time, "s"),
-                    num(c.stance.duration, "s"),
-                    c.stance.reversals
-                ),
-            )
-            .row("touchdown angle", num(c.touchdown_angle, "rad"))
-            .row(
-                "energy per cycle",
-                format!(
-                    "motor {} = brake loss {} + touchdown loss {}",
-                    num(c.stance.motor_work, "J"),
-                    num(c.brake.energy_loss, "J"),
-                    num(c.touchdown.energy_loss, "J")
-                ),
-            )
-            .row(
-                "impulse per distance ζ0/stride",
-                num(fp.impulse_per_distance(), "N s"),
-            )
-            .row("residual", num(fp.residual, "rad"));
+            t.row("β* = (T*, ζ0*)", control(fp))
+                .row(
+                    "eigenvalues of ∂P/∂z",
+                    format!(
+                        "{}, {}",
+                        complex(&fp.eigenvalues[0]),
+                        complex(&fp.eigenvalues[1])
+                    ),
+                )
+                .row(
+                    "max |λ|",
+                    format!(
+                        "{} ({})",
+                        num(fp.spectral_radius, ""),
+                        if fp.stable { "stable" } else { "unstable" }
+                    ),
+                )
+                .row(
+                    "speed, stride, period",
+                    nums(&[(fp.speed(), "m/s"), (c.stride, "m"), (c.period, "s")]),
+                )
+                .row(
+                    "flight, stance",
+                    format!(
+                        "{} ({} reversals of φ̇)",
+                        nums(&[(c.flight_time, "s"), (c.stance.duration, "s")]),
+                        c.stance.reversals
+                    ),
+                )
+                .row("touchdown angle", num(c.touchdown_angle, "rad"))
+                .row(
+                    "energy per cycle",
+                    format!(
+                        "motor {} = brake loss {} + touchdown loss {}",
+                        num(c.stance.motor_work, "J"),
+                        num(c.brake.energy_loss, "J"),
+                        num(c.touchdown.energy_loss, "J")
+                    ),
+                )
+                .row(
+                    "impulse per distance ζ0/stride",
+                    num(fp.impulse_per_distance(), "N s"),
+                )
+                .row("residual", num(fp.residual, "rad"));
             print!("{t}");
             for w in fp.warnings(p) {
                 println!("warning: {w}");
@@ -628,9 +624,7 @@ fn run_point(
     } else if args.simulate {
         println!("--simulate: no fixed point to simulate");
     }
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }
 
@@ -733,6 +727,11 @@ fn colour_range(values: &[Option<f64>], cap: bool) -> ((f64, f64), bool) {
     }
 }
 
+/// The fixed point of a grid point known to have one.
+fn found_fixed_point(q: &GridPoint) -> &FixedPoint {
+    q.fixed_point.as_ref().expect("fixed point")
+}
+
 fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
     let (n, m) = grid_size(args)?;
     let grid = FixedPointGrid::new(
@@ -747,7 +746,6 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
     let points = grid.run(&bar)?;
     let elapsed = started.elapsed().as_secs_f64();
     let found: Vec<&GridPoint> = points.iter().filter(|q| q.fixed_point.is_some()).collect();
-    let fp_of = |q: &&GridPoint| q.fixed_point.clone().expect("fixed point");
     let stable: Vec<&GridPoint> = found
         .iter()
         .copied()
@@ -769,9 +767,9 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
             .is_some_and(|f| f.warnings(p).is_empty())
     };
     let by_radius = |a: &&GridPoint, b: &&GridPoint| {
-        fp_of(a)
+        found_fixed_point(a)
             .spectral_radius
-            .total_cmp(&fp_of(b).spectral_radius)
+            .total_cmp(&found_fixed_point(b).spectral_radius)
     };
     let most_stable = stable
         .iter()
@@ -779,10 +777,11 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
         .filter(consistent)
         .min_by(by_radius)
         .or_else(|| stable.iter().copied().min_by(by_radius));
-    let fastest = stable
-        .iter()
-        .copied()
-        .max_by(|a, b| fp_of(a).speed().total_cmp(&fp_of(b).speed()));
+    let fastest = stable.iter().copied().max_by(|a, b| {
+        found_fixed_point(a)
+            .speed()
+            .total_cmp(&found_fixed_point(b).speed())
+    });
     let mut reasons: std::collections::BTreeMap<String, usize> = Default::default();
     for q in &points {
         if let Some(r) = &q.no_fixed_point {
@@ -790,12 +789,10 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
         }
     }
     let sim = match (args.simulate, most_stable) {
-        (true, Some(q)) => Some(simulate(args, p, &fp_of(&q))?),
+        (true, Some(q)) => Some(simulate(args, p, found_fixed_point(q))?),
         _ => None,
     };
-    let mut files = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
+    let files = args.output.write_files(|out| {
         let mut csv = grid_csv_table();
         for q in &points {
             csv.push(grid_csv_row(p, q));
@@ -864,11 +861,11 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
                 f.spectral_radius
             }),
         )?;
-        if let Some(sim) = &sim {
-            write_simulation(&mut out, sim)?;
+        match &sim {
+            Some(sim) => write_simulation(out, sim),
+            None => Ok(()),
         }
-        files = out.files();
-    }
+    })?;
     if args.output.json {
         return common::print_json(&json!({
             "analysis": "fixed-points",
@@ -898,18 +895,13 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
     ));
     t.row(
         "φ_TO range",
-        format!(
-            "{} … {}",
-            num(grid.angles[0], "rad"),
-            num(grid.angles[n - 1], "rad")
-        ),
+        num_range(grid.angles[0], grid.angles[n - 1], "rad"),
     )
     .row(
         "E_TO range",
         format!(
-            "{} … {} (rolling kinetic energy before the brake)",
-            num(grid.energies[0], "J"),
-            num(grid.energies[m - 1], "J")
+            "{} (rolling kinetic energy before the brake)",
+            num_range(grid.energies[0], grid.energies[m - 1], "J")
         ),
     )
     .row("flywheel at touchdown", p.touchdown.name())
@@ -958,7 +950,7 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
             "", "φ_TO", "E_TO", "T*", "ζ0*", "max|λ|", "stable", "speed"
         );
         for (label, q) in labelled {
-            let f = fp_of(&q);
+            let f = found_fixed_point(q);
             println!(
                 "  {:<15} {:>8.4} {:>8.4} {:>9.4} {:>10.5} {:>8.4} {:>8} {:>8.4}",
                 label,
@@ -980,8 +972,6 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
     } else if args.simulate {
         println!("--simulate: no stable fixed point in the grid to simulate");
     }
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }

@@ -7,7 +7,7 @@ use hopsim_analysis::output::CsvTable;
 use hopsim_analysis::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use serde_json::json;
 
-use super::common::{self, invalid, num, opt_num, OutDir, OutputArgs, Table};
+use super::common::{self, invalid, num, nums, opt_num, OutDir, OutputArgs, Table};
 
 /// Fixed point, eigenvalue and stable impulse interval of φ_{i+1} = φ_i − c sin 2φ_i + φ̇_S T_C,
 /// c = R ‖ζ‖² / (m I g); with --out also the bifurcation diagram over ‖ζ‖ and iteration series.
@@ -56,24 +56,23 @@ pub struct ImpulsiveWheelArgs {
     pub output: OutputArgs,
 }
 
+/// Iterations of the bifurcation diagram dropped as transient, and iterations kept.
 const TRANSIENT: usize = 500;
 const KEEP: usize = 64;
 
 pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
-    for (name, value) in [
-        ("impulse", args.impulse),
-        ("mass", args.mass),
-        ("radius", args.radius),
-        ("inertia", args.inertia),
-        ("cycle-time", args.cycle_time),
-        ("rolling-energy", args.rolling_energy),
-        ("gravity", args.gravity),
-        ("impulse-min", args.impulse_min),
-        ("impulse-max", args.impulse_max),
-        ("initial-angle", args.initial_angle),
-    ] {
-        common::check_finite(name, Some(value))?;
-    }
+    common::check_all_finite(&[
+        ("impulse", Some(args.impulse)),
+        ("mass", Some(args.mass)),
+        ("radius", Some(args.radius)),
+        ("inertia", Some(args.inertia)),
+        ("cycle-time", Some(args.cycle_time)),
+        ("rolling-energy", Some(args.rolling_energy)),
+        ("gravity", Some(args.gravity)),
+        ("impulse-min", Some(args.impulse_min)),
+        ("impulse-max", Some(args.impulse_max)),
+        ("initial-angle", Some(args.initial_angle)),
+    ])?;
     if args.impulse < 0.0 || args.impulse_min < 0.0 {
         return invalid("impulses must be ≥ 0");
     }
@@ -111,12 +110,9 @@ pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
         .iter()
         .map(|&z| (z, wheel.iterate(z, args.initial_angle, args.iterations)))
         .collect();
-    let mut files = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
-        write_outputs(&args, &wheel, &series, &mut out)?;
-        files = out.files();
-    }
+    let files = args
+        .output
+        .write_files(|out| write_outputs(&args, &wheel, &series, out))?;
     if args.output.json {
         return common::print_json(&json!({
             "analysis": "impulsive-wheel",
@@ -139,21 +135,19 @@ pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
     let mut t = Table::new("impulsive wheel return map (physics.md §5.5)");
     t.row(
         "m, R, I",
-        format!(
-            "{} / {} / {}",
-            num(wheel.mass, "kg"),
-            num(wheel.radius, "m"),
-            num(wheel.inertia, "kg m²")
-        ),
+        nums(&[
+            (wheel.mass, "kg"),
+            (wheel.radius, "m"),
+            (wheel.inertia, "kg m²"),
+        ]),
     )
     .row(
         "T_C, E₀, g",
-        format!(
-            "{} / {} / {}",
-            num(wheel.cycle_time, "s"),
-            num(wheel.rolling_energy, "J"),
-            num(wheel.gravity, "m/s²")
-        ),
+        nums(&[
+            (wheel.cycle_time, "s"),
+            (wheel.rolling_energy, "J"),
+            (wheel.gravity, "m/s²"),
+        ]),
     )
     .row(
         "rolling speed (per cycle)",
@@ -186,9 +180,7 @@ pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
             num(wrap_half_turn(last), "rad")
         );
     }
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }
 
@@ -219,7 +211,7 @@ fn write_outputs(
     let (lo, hi) = wheel.stable_impulse_interval();
     let half_pi = 0.5 * std::f64::consts::PI;
     let mut plot = LinePlot::new(
-        "impulsive wheel: take-off angle after 500 iterations (mod π)",
+        format!("impulsive wheel: take-off angle after {TRANSIENT} iterations (mod π)"),
         "impulse ‖ζ‖ [N s]",
         "φ [rad]",
     )
@@ -233,9 +225,12 @@ fn write_outputs(
         .size(1),
     )
     .with_series(
-        Series::points("iterates 501–564", points)
-            .color(PALETTE[0])
-            .size(1),
+        Series::points(
+            format!("iterates {}–{}", TRANSIENT + 1, TRANSIENT + KEEP),
+            points,
+        )
+        .color(PALETTE[0])
+        .size(1),
     );
     for (label, z) in [("stable interval", lo), ("", hi)] {
         let line = Series::line(label, vec![(z, -half_pi), (z, half_pi)])

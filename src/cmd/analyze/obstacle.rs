@@ -7,10 +7,11 @@ use hopsim_analysis::obstacle::{
 };
 use hopsim_analysis::output::CsvTable;
 use hopsim_analysis::plot::{CategoryMap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
+use indicatif::ProgressBar;
 use serde_json::json;
 use std::time::Instant;
 
-use super::common::{self, invalid, num, opt_num, OutDir, OutputArgs, Table};
+use super::common::{self, invalid, num, nums, OutDir, OutputArgs, Table};
 
 /// Costs of rolling, trivial hopping and rotational hopping over a wall of height h, for a
 /// wheel at one speed; with --out also cost curves and the region maps (cheapest strategy)
@@ -120,13 +121,11 @@ pub fn run(args: ObstacleArgs) -> anyhow::Result<()> {
     let (wheel, speed, height) = wheel_and_case(&args)?;
     let cmp = obstacle::compare(&wheel, speed, height)?;
     let unit = wheel.energy_unit();
-    let mut files = Vec::new();
     let mut timings = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
-        timings = write_maps(&args, &wheel, height, &mut out)?;
-        files = out.files();
-    }
+    let files = args.output.write_files(|out| {
+        timings = write_maps(&args, &wheel, height, out)?;
+        Ok(())
+    })?;
     let rot = cmp.rotational_hop.as_ref();
     if args.output.json {
         return common::print_json(&json!({
@@ -159,12 +158,11 @@ pub fn run(args: ObstacleArgs) -> anyhow::Result<()> {
     let mut t = Table::new("wheel over a wall (physics.md §5.2)");
     t.row(
         "m, R, I",
-        format!(
-            "{} / {} / {}",
-            num(wheel.mass, "kg"),
-            num(wheel.radius, "m"),
-            num(wheel.inertia, "kg m²")
-        ),
+        nums(&[
+            (wheel.mass, "kg"),
+            (wheel.radius, "m"),
+            (wheel.inertia, "kg m²"),
+        ]),
     )
     .row("α = I/(mR²)", num(cmp.inertia_factor, ""))
     .row(
@@ -218,11 +216,9 @@ pub fn run(args: ObstacleArgs) -> anyhow::Result<()> {
     c.row("cheapest", cmp.cheapest.name());
     print!("{c}");
     for (name, seconds) in &timings {
-        println!("map {name}: {}", opt_num(Some(*seconds), "s", ""));
+        println!("map {name}: {}", num(*seconds, "s"));
     }
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }
 
@@ -267,6 +263,19 @@ fn category_map(
     );
     map.colors = Some(vec![PALETTE[0], PALETTE[1], PALETTE[2]]);
     map
+}
+
+/// Runs one region map with the progress bar `bar`; records how long it took as `name`.
+fn timed_map(
+    timings: &mut Vec<(String, f64)>,
+    name: String,
+    bar: ProgressBar,
+    map: impl FnOnce(&ProgressBar) -> hopsim_analysis::Result<Vec<RegionCell>>,
+) -> anyhow::Result<Vec<RegionCell>> {
+    let started = Instant::now();
+    let cells = map(&bar)?;
+    timings.push((name, started.elapsed().as_secs_f64()));
+    Ok(cells)
 }
 
 fn write_maps(
@@ -349,15 +358,15 @@ fn write_maps(
     let masses = logspace(MASS_RANGE.0, MASS_RANGE.1, n);
     let speeds = logspace(SPEED_RANGE.0, SPEED_RANGE.1, n);
     let log10 = |v: &[f64]| v.iter().map(|x| x.log10()).collect::<Vec<_>>();
+    let json = args.output.json;
     for &ratio in &args.map_height_ratios {
         let tag = format!("{ratio:.2}").replace('.', "p");
-        let started = Instant::now();
-        let bar = common::bar(n * n, &format!("α × Fr, h/R = {ratio}"), args.output.json);
-        let cells = region_map_inertia_froude(ratio, &alphas, &map_froudes, &bar)?;
-        timings.push((
+        let cells = timed_map(
+            &mut timings,
             format!("alpha_froude h/R={ratio}"),
-            started.elapsed().as_secs_f64(),
-        ));
+            common::bar(n * n, &format!("α × Fr, h/R = {ratio}"), json),
+            |bar| region_map_inertia_froude(ratio, &alphas, &map_froudes, bar),
+        )?;
         out.csv(
             &format!("region_alpha_froude_h{tag}.csv"),
             &region_cells_csv(&cells, "inertia_factor", "froude"),
@@ -372,17 +381,12 @@ fn write_maps(
         );
         out.figure(&format!("region_alpha_froude_h{tag}"), &map)?;
 
-        let started = Instant::now();
-        let bar = common::bar(
-            n * n,
-            &format!("mass × speed, h/R = {ratio}"),
-            args.output.json,
-        );
-        let cells = region_map_allometric(ratio, &masses, &speeds, &bar)?;
-        timings.push((
+        let cells = timed_map(
+            &mut timings,
             format!("allometric h/R={ratio}"),
-            started.elapsed().as_secs_f64(),
-        ));
+            common::bar(n * n, &format!("mass × speed, h/R = {ratio}"), json),
+            |bar| region_map_allometric(ratio, &masses, &speeds, bar),
+        )?;
         out.csv(
             &format!("region_mass_speed_h{tag}.csv"),
             &region_cells_csv(&cells, "mass_kg", "speed_mps"),

@@ -10,7 +10,7 @@ use hopsim_analysis::template::{
 use serde_json::json;
 use std::time::Instant;
 
-use super::common::{self, invalid, num, opt_num, OutDir, OutputArgs, Table};
+use super::common::{self, invalid, num, num_range, nums, OutDir, OutputArgs, Table};
 
 /// Named parameter sets of Table 3.1 (ranges take their midpoints).
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -104,7 +104,7 @@ pub struct TemplateArgs {
 }
 
 fn apply_overrides(args: &TemplateArgs, mut p: TemplateParams) -> anyhow::Result<TemplateParams> {
-    for (name, value) in [
+    common::check_all_finite(&[
         ("radius", args.radius),
         ("leg-length", args.leg_length),
         ("mass", args.mass),
@@ -114,9 +114,7 @@ fn apply_overrides(args: &TemplateArgs, mut p: TemplateParams) -> anyhow::Result
         ("tau", args.tau),
         ("gravity", args.gravity),
         ("tolerance", args.tolerance),
-    ] {
-        common::check_finite(name, value)?;
-    }
+    ])?;
     p.radius = args.radius.unwrap_or(p.radius);
     p.leg_length = args.leg_length.unwrap_or(p.leg_length);
     p.mass = args.mass.unwrap_or(p.mass);
@@ -204,12 +202,9 @@ fn run_case(args: &TemplateArgs) -> anyhow::Result<()> {
     let params = apply_overrides(args, case.params())?;
     let record = args.output.out.is_some();
     let run = template::simulate(&params, record)?;
-    let mut files = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
-        write_case_outputs(&mut out, &run)?;
-        files = out.files();
-    }
+    let files = args
+        .output
+        .write_files(|out| write_case_outputs(out, &run))?;
     let warnings = warnings(&run);
     let s = run.summary.as_ref();
     if args.output.json {
@@ -245,28 +240,19 @@ fn run_case(args: &TemplateArgs) -> anyhow::Result<()> {
     ));
     t.row(
         "R, l, a",
-        format!(
-            "{} / {} / {}",
-            num(params.radius, "m"),
-            num(params.leg_length, "m"),
-            num(params.eccentricity(), "m")
-        ),
+        nums(&[
+            (params.radius, "m"),
+            (params.leg_length, "m"),
+            (params.eccentricity(), "m"),
+        ]),
     )
     .row(
         "m, I",
-        format!(
-            "{} / {}",
-            num(params.mass, "kg"),
-            num(params.inertia, "kg m²")
-        ),
+        nums(&[(params.mass, "kg"), (params.inertia, "kg m²")]),
     )
     .row(
         "φ_TO, τ",
-        format!(
-            "{} / {}",
-            num(params.takeoff_angle, "rad"),
-            num(params.impulse_tilt, "rad")
-        ),
+        nums(&[(params.takeoff_angle, "rad"), (params.impulse_tilt, "rad")]),
     )
     .row("ΔE", num(params.energy_input, "J"))
     .row(
@@ -298,9 +284,7 @@ fn run_case(args: &TemplateArgs) -> anyhow::Result<()> {
     for w in &warnings {
         println!("warning: {w}");
     }
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }
 
@@ -455,9 +439,7 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
             .mean_speed_mps
             .total_cmp(&b.converged().unwrap().mean_speed_mps)
     });
-    let mut files = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
+    let files = args.output.write_files(|out| {
         let mut csv = CsvTable::new(&[
             "leg_over_radius",
             "radius_m",
@@ -516,9 +498,8 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
                 "mean speed [m/s]",
                 |s| s.mean_speed_mps,
             ),
-        )?;
-        files = out.files();
-    }
+        )
+    })?;
     let cell_json = |c: &GridCell| {
         let s = c.summary.as_ref();
         json!({
@@ -553,19 +534,11 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
     let mut t = Table::new(format!("Cargo template grid, {n} × {n} cells (l/R × φ_TO)"));
     t.row(
         "l/R range",
-        format!(
-            "{} … {}",
-            num(grid.leg_over_radius[0], ""),
-            num(grid.leg_over_radius[n - 1], "")
-        ),
+        num_range(grid.leg_over_radius[0], grid.leg_over_radius[n - 1], ""),
     )
     .row(
         "φ_TO range",
-        format!(
-            "{} … {}",
-            num(grid.takeoff_angles[0], "rad"),
-            num(grid.takeoff_angles[n - 1], "rad")
-        ),
+        num_range(grid.takeoff_angles[0], grid.takeoff_angles[n - 1], "rad"),
     )
     .row(
         "cells with a gait",
@@ -591,9 +564,7 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
         t.row("fastest", describe(c));
     }
     print!("{t}");
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }
 
@@ -613,9 +584,7 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
         results.push((case, base, points));
     }
     let elapsed = started.elapsed().as_secs_f64();
-    let mut files = Vec::new();
-    if let Some(dir) = &args.output.out {
-        let mut out = OutDir::create(dir)?;
+    let files = args.output.write_files(|out| {
         for (case, _, points) in &results {
             let mut csv = CsvTable::new(&[
                 "takeoff_angle_rad",
@@ -685,8 +654,8 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
             }
             out.figure(&format!("{}_stride_vs_speed", case.name()), &plot)?;
         }
-        files = out.files();
-    }
+        Ok(())
+    })?;
     if args.output.json {
         let sweeps: Vec<serde_json::Value> = results
             .iter()
@@ -733,19 +702,14 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
             (!gaits.is_empty()).then_some((lo, hi))
         };
         if let Some((lo, hi)) = range(|s| s.dimensionless_speed) {
-            t.row(
-                "u / sqrt(g l)",
-                format!("{} … {}", num(lo, ""), num(hi, "")),
-            );
+            t.row("u / sqrt(g l)", num_range(lo, hi, ""));
         }
         if let Some((lo, hi)) = range(|s| s.stride_m) {
-            t.row("stride", format!("{} … {}", num(lo, "m"), num(hi, "m")));
+            t.row("stride", num_range(lo, hi, "m"));
         }
-        t.row("elapsed (all sweeps)", opt_num(Some(elapsed), "s", ""));
+        t.row("elapsed (all sweeps)", num(elapsed, "s"));
         print!("{t}");
     }
-    for f in &files {
-        println!("wrote {f}");
-    }
+    common::print_written(&files);
     Ok(())
 }

@@ -2,7 +2,24 @@
 //! physics.md §4 and an independent brute-force LCP solver.
 #![allow(dead_code)]
 
+use hopsim_lcp::{LcpSolution, LemkeOptions, LemkeSolver};
 use nalgebra::{DMatrix, DVector};
+
+/// Lemke's method alone: no fallback covering vectors, no enumeration.
+pub fn no_fallback() -> LemkeOptions {
+    LemkeOptions {
+        fallback: false,
+        ..LemkeOptions::default()
+    }
+}
+
+/// Solves `(M, q)` with a fresh solver configured by `options`; panics on invalid input.
+pub fn solve_with(options: LemkeOptions, m: &DMatrix<f64>, q: &DVector<f64>) -> LcpSolution {
+    LemkeSolver::new(options)
+        .solve(m.as_view(), q.as_view())
+        .unwrap()
+        .clone()
+}
 
 /// Planar contact system: diagonal mass matrix, one normal and one tangential generalised
 /// force direction per contact (columns of `W_N`, `W_T`), friction coefficients.

@@ -1,10 +1,11 @@
-//! Small models with known mechanics, shared by the stepper's tests and benchmark.
+//! Small models with known mechanics, shared by the stepper's tests, its benchmark and
+//! the profiling example.
 #![allow(dead_code)]
 
 use hopsim_model::{
     Body, ContactMaterial, Joint, JointCoordinate, Model, Shape, ShapeInstance, Terrain, Vec2,
 };
-use hopsim_step::{Actuation, State, StepRecord, StepSettings, Stepper};
+use hopsim_step::{Actuation, State, StepRecord, StepSettings, Stepper, TorqueCommand};
 use nalgebra::DVector;
 
 pub const G: f64 = 9.81;
@@ -17,16 +18,7 @@ pub fn material(friction: f64, restitution: f64) -> ContactMaterial {
     }
 }
 
-fn base(name: &str, mass: f64, inertia: f64) -> Body {
-    Body {
-        name: name.into(),
-        mass,
-        inertia,
-        joint: None,
-    }
-}
-
-/// One body carrying one shape on `terrain`.
+/// One body carrying one shape on `terrain` ([`Model::single_body`]).
 pub fn single_body(
     mass: f64,
     inertia: f64,
@@ -34,19 +26,7 @@ pub fn single_body(
     terrain: Terrain,
     mat: ContactMaterial,
 ) -> Model {
-    Model::new(
-        vec![base("body", mass, inertia)],
-        vec![ShapeInstance {
-            name: "shape".into(),
-            body: 0,
-            shape,
-        }],
-        terrain,
-        vec![],
-        Vec2::new(0.0, -G),
-        mat,
-    )
-    .unwrap()
+    Model::single_body(mass, inertia, shape, terrain, mat).unwrap()
 }
 
 /// A disc of radius `r` whose centre of mass sits `a` below its centre at `φ = 0` (§2).
@@ -66,20 +46,11 @@ pub fn eccentric_disc(mass: f64, inertia: f64, r: f64, a: f64, mat: ContactMater
 /// Robbit of physics.md §5.3: off-centred disc plus a flywheel pivoting at the CoM,
 /// coordinates `(x, y, φ, ψ)` with `ψ` absolute.
 pub fn robbit() -> Model {
-    let flywheel = Body {
-        name: "flywheel".into(),
-        mass: 0.431,
-        inertia: 1.543e-3,
-        joint: Some(Joint {
-            parent: 0,
-            pivot_in_parent: Vec2::zeros(),
-            com_in_child: Vec2::zeros(),
-            coordinate: JointCoordinate::Absolute,
-            damping: 0.0,
-        }),
-    };
     Model::new(
-        vec![base("disc", 0.974, 3.004e-3), flywheel],
+        vec![
+            Body::base("disc", 0.974, 3.004e-3),
+            Body::flywheel("flywheel", 0.431, 1.543e-3, 0),
+        ],
         vec![ShapeInstance {
             name: "disc".into(),
             body: 0,
@@ -94,6 +65,16 @@ pub fn robbit() -> Model {
         material(1.0, 0.0),
     )
     .unwrap()
+}
+
+/// The motor torque `torque` on body 1 (Robbit's flywheel, the hopper's lower body), its
+/// reaction on body 0.
+pub fn motor(torque: f64) -> TorqueCommand {
+    TorqueCommand {
+        body: 1,
+        reaction: Some(0),
+        torque,
+    }
 }
 
 pub fn stepper(model: &Model, dt: f64) -> Stepper {
@@ -180,7 +161,7 @@ pub fn two_body_hopper(mu: f64) -> Model {
         tension_only,
     };
     Model::new(
-        vec![base("upper", 1.2, 0.01), lower],
+        vec![Body::base("upper", 1.2, 0.01), lower],
         shapes,
         Terrain::flat(0.0),
         vec![spring("front", 0.05, false), spring("back", -0.05, true)],
