@@ -85,8 +85,11 @@ pub(crate) fn temporary_file_for(path: &Path) -> Result<NamedTempFile, RecordErr
     let mut prefix = std::ffi::OsString::from(".");
     prefix.push(name);
     prefix.push(".partial-");
-    tempfile::Builder::new()
-        .prefix(&prefix)
-        .tempfile_in(dir)
-        .map_err(io)
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix);
+    // Temporary files are private (0600) by default; an output file gets what a plain
+    // `File::create` would give it, read-write for all less the umask.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    builder.tempfile_in(dir).map_err(io)
 }

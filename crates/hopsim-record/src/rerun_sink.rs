@@ -8,7 +8,8 @@ use crate::geometry::{terrain_pieces, to_world, Outline, Point};
 use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo};
 use hopsim_model::Terrain;
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial2DView, TextLogView, TimeSeriesView, Vertical,
+    Blueprint, ContainerLike, Horizontal, Spatial2DView, TextLogView, TimePanel, TimeSeriesView,
+    Vertical,
 };
 use rerun::{
     Arrows2D, AsComponents, Color, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder,
@@ -28,6 +29,9 @@ pub const STEP_TIMELINE: &str = "step";
 const FALLBACK_ARROW_SCALE_M_PER_N: f64 = 0.01;
 /// Longest contact arrow, in robot sizes (touchdown impacts would dwarf the scene).
 const MAX_ARROW_ROBOT_SIZES: f64 = 3.0;
+/// How long an event's marker stays in the robot view, s of simulation time (the event
+/// log keeps every event).
+const EVENT_MARKER_HOLD_S: f64 = 0.1;
 /// Points per logged piece of the centre-of-mass trail (`world/com/trail/<n>`): only the
 /// growing piece is logged again, so the trail costs little however long the run.
 const TRAIL_PIECE_POINTS: usize = 100;
@@ -169,6 +173,21 @@ impl RerunRecorder {
             .set_time_sequence(STEP_TIMELINE, i64::try_from(step).unwrap_or(i64::MAX));
     }
 
+    /// Clears the event markers whose hold time has passed at `t`.
+    fn clear_expired_markers(&mut self, t: f64) -> Result<(), RecordError> {
+        let mut markers = std::mem::take(&mut self.drawing.markers);
+        let mut result = Ok(());
+        markers.retain(|(entity, until)| {
+            let expired = *until <= t;
+            if expired && result.is_ok() {
+                result = self.log(entity, &rerun::Clear::flat());
+            }
+            !expired
+        });
+        self.drawing.markers = markers;
+        result
+    }
+
     fn log_bodies(&self, frame: &Frame<'_>) -> Result<(), RecordError> {
         let marker = self.drawing.marker_radius();
         let mut shape_index = 0;
@@ -297,7 +316,8 @@ fn builder(info: &RecordingInfo) -> RecordingStreamBuilder {
         .with_blueprint(blueprint())
 }
 
-/// The robot on the left, time series and the event log on the right.
+/// The robot on the left, time series and the event log on the right, on the simulation
+/// time (the viewer would otherwise pick the step timeline).
 fn blueprint() -> Blueprint {
     let plots: [ContainerLike; 5] = [
         ("position", PLOT_POSITION),
@@ -316,6 +336,7 @@ fn blueprint() -> Blueprint {
         .with_origin("/")
         .with_contents(["/world/**"]);
     Blueprint::new(Horizontal::new([robot.into(), right.into()]).with_column_shares([2.0_f32, 1.0]))
+        .with_time_panel(TimePanel::new().with_timeline(TIME_TIMELINE))
 }
 
 /// The executable `name` in the folders of `path_var` (the value of `PATH`), or an error
@@ -363,6 +384,8 @@ struct Drawing {
     trail_piece: usize,
     /// The robot's CoM at the last frame (where event markers are drawn).
     last_com: Option<[f32; 2]>,
+    /// Event markers on view, with the simulation time at which each is cleared.
+    markers: Vec<(String, f64)>,
     /// Per-contact impulse buffer for the time series.
     impulses: Vec<f64>,
 }
@@ -416,6 +439,7 @@ impl Drawing {
             trail: Vec::new(),
             trail_piece: 0,
             last_com: None,
+            markers: Vec::new(),
             impulses: vec![0.0; info.contacts.len()],
         }
     }
@@ -504,6 +528,7 @@ impl Recorder for RerunRecorder {
             self.log_terrain()?;
         }
         self.log_bodies(frame)?;
+        self.clear_expired_markers(frame.t)?;
         let springs = frame
             .springs
             .iter()
@@ -542,15 +567,23 @@ impl Recorder for RerunRecorder {
             EVENTS_ENTITY,
             &TextLog::new(text).with_level(rerun::TextLogLevel::INFO),
         )?;
-        // A marker at the robot's last recorded centre of mass, one entity per kind.
+        // A marker at the robot's last recorded centre of mass, one entity per kind, shown
+        // for EVENT_MARKER_HOLD_S.
         if let Some(at) = self.drawing.last_com {
+            let entity = format!("world/events/{kind}");
             self.log(
-                &format!("world/events/{kind}"),
+                &entity,
                 &Points2D::new([at])
                     .with_labels([kind])
                     .with_colors([event_color(&event.kind)])
                     .with_radii([2.0 * self.drawing.marker_radius()]),
             )?;
+            let until = event.t + EVENT_MARKER_HOLD_S;
+            let markers = &mut self.drawing.markers;
+            match markers.iter_mut().find(|(e, _)| *e == entity) {
+                Some(marker) => marker.1 = until,
+                None => markers.push((entity, until)),
+            }
         }
         Ok(())
     }
@@ -603,9 +636,9 @@ mod tests {
         );
     }
 
-    #[test]
-    fn terrain_coverage_grows_ahead_of_the_robot_and_rarely() {
-        let mut drawing = Drawing::new(&RecordingInfo {
+    /// A recording without bodies, contacts or springs.
+    fn empty_info() -> RecordingInfo {
+        RecordingInfo {
             scene: String::new(),
             scene_path: String::new(),
             scene_text: String::new(),
@@ -616,7 +649,57 @@ mod tests {
             terrain: Terrain::flat(0.0),
             dt: 1e-3,
             weight_newtons: 0.0,
-        });
+        }
+    }
+
+    #[test]
+    fn event_markers_are_cleared_after_their_hold_time() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut rec = RerunRecorder::save(&dir.path().join("run.rrd"), &empty_info()).unwrap();
+        let frame = |t: f64| Frame {
+            t,
+            step: (t * 1e3).round() as u64,
+            q: &[],
+            u: &[],
+            bodies: &[],
+            com: [t, 0.1],
+            contacts: &[],
+            springs: &[],
+            shapes_active: &[],
+            energy: EnergySample::default(),
+            actuator_torque: 0.0,
+        };
+        rec.frame(&frame(0.0)).unwrap();
+        let event = |t: f64, kind: EventKind| Event { t, step: 0, kind };
+        rec.event(&event(0.01, EventKind::TakeOff)).unwrap();
+        rec.event(&event(0.05, EventKind::Brake { impulse: 0.05 }))
+            .unwrap();
+        rec.event(&event(0.06, EventKind::TakeOff)).unwrap();
+        let on_view = |rec: &RerunRecorder| {
+            let mut m: Vec<_> = rec.drawing.markers.iter().map(|(e, _)| e.clone()).collect();
+            m.sort();
+            m
+        };
+        assert_eq!(
+            on_view(&rec),
+            ["world/events/brake", "world/events/take_off"]
+        );
+        rec.frame(&frame(0.01 + EVENT_MARKER_HOLD_S)).unwrap();
+        assert_eq!(
+            on_view(&rec),
+            ["world/events/brake", "world/events/take_off"],
+            "the second take-off renewed its marker"
+        );
+        rec.frame(&frame(0.05 + EVENT_MARKER_HOLD_S)).unwrap();
+        assert_eq!(on_view(&rec), ["world/events/take_off"]);
+        rec.frame(&frame(0.06 + EVENT_MARKER_HOLD_S)).unwrap();
+        assert!(on_view(&rec).is_empty());
+        Box::new(rec).finish().unwrap();
+    }
+
+    #[test]
+    fn terrain_coverage_grows_ahead_of_the_robot_and_rarely() {
+        let mut drawing = Drawing::new(&empty_info());
         assert!(drawing.cover(0.0));
         let (lo, hi) = drawing.terrain_range;
         assert!(lo <= -0.5 && hi >= 0.5);

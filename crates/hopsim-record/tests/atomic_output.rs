@@ -72,8 +72,24 @@ fn a_finished_recorder_leaves_exactly_its_files_in_a_new_folder() {
         set.finish().unwrap();
         assert_eq!(files_in(&out), expected, "{name}");
         assert!(std::fs::metadata(out.join(name)).unwrap().len() > 0);
+        assert_plain_permissions(&out, name);
     }
 }
+
+/// The file at `dir/name` has the permissions a plain `File::create` gives in `dir` (the
+/// process umask applied), not a temporary file's private 0600.
+#[cfg(unix)]
+fn assert_plain_permissions(dir: &Path, name: &str) {
+    use std::os::unix::fs::PermissionsExt;
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let plain = dir.join("plain");
+    std::fs::File::create(&plain).unwrap();
+    assert_eq!(mode(&dir.join(name)), mode(&plain), "{name}: permissions");
+    std::fs::remove_file(plain).unwrap();
+}
+
+#[cfg(not(unix))]
+fn assert_plain_permissions(_: &Path, _: &str) {}
 
 #[test]
 fn write_atomically_replaces_only_on_success() {
