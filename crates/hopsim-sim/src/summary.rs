@@ -321,6 +321,12 @@ impl std::fmt::Display for Summary {
                     c.restitution, c.impulse_per_distance
                 )?;
             }
+            if r.cube_baseline.is_empty() {
+                writeln!(
+                    f,
+                    "  cube baseline      none: defined for a disc body (l = 2(R − a), §5.3)"
+                )?;
+            }
         }
         if let Some(g) = &self.gait {
             writeln!(f, "  gait               {g}")?;
