@@ -57,7 +57,7 @@ fn template_cargo_2_json_has_finite_gait_fields() {
     // Internal consistency of the reported gait: u = stride × f, CoT = ΔE / (m g stride).
     assert!((speed - stride * frequency).abs() < 1e-9 * speed);
     let p = &v["parameters"];
-    let expected_cot = p["energy_input_j"].as_f64().unwrap()
+    let expected_cot = p["energy_input_J"].as_f64().unwrap()
         / (p["mass_kg"].as_f64().unwrap() * p["gravity_mps2"].as_f64().unwrap() * stride);
     assert!((cot - expected_cot).abs() < 1e-12);
 }
@@ -77,7 +77,7 @@ fn template_overrides_change_the_parameters() {
         "30",
         "--json",
     ]);
-    assert_eq!(v["parameters"]["energy_input_j"], 40.0);
+    assert_eq!(v["parameters"]["energy_input_J"], 40.0);
     assert_eq!(v["parameters"]["takeoff_angle_rad"], -0.08);
     assert_eq!(v["hops_completed"], 30);
 }
@@ -92,7 +92,7 @@ fn impulsive_wheel_3_5_json() {
     let c = 3.5f64.powi(2) / 9.81;
     assert!((c * (2.0 * phi).sin() - 1.0).abs() < 1e-12);
     assert!(lambda.abs() < 1.0);
-    let interval = v["stable_impulse_interval_ns"].as_array().unwrap();
+    let interval = v["stable_impulse_interval_Ns"].as_array().unwrap();
     assert!(interval[0].as_f64().unwrap() < 3.5 && 3.5 < interval[1].as_f64().unwrap());
 }
 
@@ -267,10 +267,10 @@ fn fixed_points_default_grid_json() {
     let mut counted = 0;
     for q in points {
         finite(q, "takeoff_angle_rad");
-        assert!(finite(q, "takeoff_energy_j") >= 0.0);
+        assert!(finite(q, "takeoff_energy_J") >= 0.0);
         assert!(finite(q, "takeoff_rate_rad_s") <= 0.0, "forward rolling");
         if q["fixed_point"] == true {
-            assert!(finite(q, "torque_nm") > 0.0 && finite(q, "impulse_limit_nms") > 0.0);
+            assert!(finite(q, "torque_Nm") > 0.0 && finite(q, "impulse_limit_Nms") > 0.0);
             let moduli: Vec<f64> = q["eigenvalues"]
                 .as_array()
                 .unwrap()
@@ -309,7 +309,7 @@ fn fixed_points_single_point_simulates() {
     assert_eq!(v["mode"], "point");
     assert_eq!(v["fixed_point"], true);
     assert_eq!(v["takeoff_angle_rad"], -0.8);
-    assert_eq!(v["takeoff_energy_j"], 0.08);
+    assert_eq!(v["takeoff_energy_J"], 0.08);
     assert!(finite(&v, "max_abs_eigenvalue") < 1.0);
     let sim = &v["simulation"];
     assert_eq!(sim["converged"], true, "{sim}");
@@ -354,10 +354,10 @@ fn fixed_points_out_dir_and_overrides() {
     let csv = std::fs::read_to_string(grid_dir.join("fixed_points.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 1 + 12);
-    assert!(lines[0].starts_with("takeoff_angle_rad,takeoff_energy_j,"));
+    assert!(lines[0].starts_with("takeoff_angle_rad,takeoff_energy_J,"));
     for column in [
-        "torque_nm",
-        "impulse_limit_nms",
+        "torque_Nm",
+        "impulse_limit_Nms",
         "max_abs_lambda",
         "stable",
         "reason",
@@ -382,7 +382,7 @@ fn fixed_points_out_dir_and_overrides() {
     assert_eq!(v["parameters"]["eccentricity_m"], 0.08);
     assert_eq!(v["parameters"]["flywheel_at_touchdown"], "free");
     assert_eq!(v["points_total"], 2);
-    assert_eq!(v["energies_j"][0], 0.05);
+    assert_eq!(v["energies_J"][0], 0.05);
 }
 
 #[test]
@@ -410,4 +410,229 @@ fn fixed_points_bad_input_exits_2() {
             "-1",
         ],
     ]);
+}
+
+/// Every object key of `value` (recursively), with its path for messages.
+fn keys(value: &serde_json::Value, path: &str, out: &mut Vec<String>) {
+    match value {
+        serde_json::Value::Object(map) => {
+            for (k, v) in map {
+                out.push(format!("{path}.{k}"));
+                keys(v, &format!("{path}.{k}"), out);
+            }
+        }
+        serde_json::Value::Array(items) => {
+            for (i, v) in items.iter().enumerate() {
+                keys(v, &format!("{path}[{i}]"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// A unit suffix in lower case where the SI symbol is upper case: `_ns` reads as
+/// nanoseconds. N s, N m s, N m, J and N are written `_Ns`, `_Nms`, `_Nm`, `_J`, `_N`.
+fn lower_case_si_suffix(name: &str) -> bool {
+    let last = name.rsplit(['.', '_']).next().unwrap_or("");
+    name.contains('_') && ["ns", "nms", "nm", "j", "n"].contains(&last)
+}
+
+#[test]
+fn machine_readable_names_spell_units_with_si_symbols() {
+    let dir = tempfile::tempdir().unwrap();
+    let runs: &[&[&str]] = &[
+        &["analyze", "template", "--case", "cargo-2"],
+        &[
+            "analyze",
+            "template",
+            "--grid",
+            "cargo",
+            "--resolution",
+            "3",
+        ],
+        &[
+            "analyze",
+            "template",
+            "--grid",
+            "wallaby",
+            "--resolution",
+            "2",
+        ],
+        &["analyze", "impulsive-wheel", "--bifurcation-points", "4"],
+        &[
+            "analyze",
+            "obstacle",
+            "--resolution",
+            "2",
+            "--map-height-ratios",
+            "0.2",
+        ],
+        &[
+            "analyze",
+            "fixed-points",
+            "--takeoff-angle",
+            "-0.8",
+            "--takeoff-energy",
+            "0.08",
+            "--simulate",
+            "--duration",
+            "2",
+        ],
+        &["analyze", "fixed-points", "--grid", "2x2"],
+    ];
+    for (i, args) in runs.iter().enumerate() {
+        let out = dir.path().join(i.to_string());
+        let mut with_json = args.to_vec();
+        with_json.extend(["--json", "--out", out.to_str().unwrap()]);
+        let mut names = Vec::new();
+        keys(&json(&with_json), "", &mut names);
+        for entry in std::fs::read_dir(&out).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "csv") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let header = text.lines().next().unwrap_or("");
+                names.extend(
+                    header
+                        .split(',')
+                        .map(|c| format!("{}: {c}", path.display())),
+                );
+            }
+        }
+        let bad: Vec<&String> = names.iter().filter(|n| lower_case_si_suffix(n)).collect();
+        assert!(bad.is_empty(), "{args:?}: {bad:?}");
+    }
+    // The names the issue fixed stay as they are.
+    let v = json(&["analyze", "impulsive-wheel", "--json"]);
+    for key in ["fixed_point_rad", "eigenvalue", "stable", "impulse_Ns"] {
+        assert!(v.get(key).is_some(), "{key}");
+    }
+    assert_eq!(v["stable_impulse_interval_Ns"].as_array().unwrap().len(), 2);
+    let v = json(&["analyze", "template", "--json"]);
+    for key in [
+        "mean_speed_mps",
+        "stride_m",
+        "hop_frequency_hz",
+        "cost_of_transport",
+        "impulse_Ns",
+        "touchdown_loss_J",
+        "min_stance_normal_force_N",
+    ] {
+        assert!(v.get(key).is_some(), "{key}");
+    }
+}
+
+#[test]
+fn template_window_errors_name_the_window() {
+    for (args, expected) in [
+        (&["--window", "0"][..], "invalid parameter `window` = 0"),
+        (&["--window", "200"][..], "invalid parameter `window` = 200"),
+        (
+            &["--hops", "20", "--window", "30"][..],
+            "invalid parameter `window` = 30",
+        ),
+        (&["--hops", "5"][..], "invalid parameter `hops` = 5"),
+    ] {
+        let mut all = vec!["analyze", "template"];
+        all.extend(args);
+        let out = hopsim(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+    let v = json(&[
+        "analyze", "template", "--hops", "20", "--window", "1", "--json",
+    ]);
+    assert_eq!(v["parameters"]["window"], 1);
+}
+
+#[test]
+fn obstacle_table_names_the_rolling_path_as_the_json_does() {
+    for froude in ["0.5", "5"] {
+        let args = ["analyze", "obstacle", "--froude", froude];
+        let path = json(&[&args[..], &["--json"]].concat())["rolling"]["path"]
+            .as_str()
+            .expect("rolling.path")
+            .to_string();
+        let table = String::from_utf8(hopsim_ok(&args).stdout).unwrap();
+        assert!(table.contains(&format!("path {path}")), "{path}: {table}");
+        assert!(
+            !table.contains("PivotOver") && !table.contains("FlewOff"),
+            "{table}"
+        );
+    }
+}
+
+/// The fixed-points table, the CSV and the JSON say "solver failed" alike.
+#[test]
+fn fixed_points_solver_failure_reads_the_same_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "analyze",
+        "fixed-points",
+        "--angle-points",
+        "1",
+        "--energy-points",
+        "1",
+        "--angle-min",
+        "-0.15",
+        "--energy-min",
+        "0.005",
+    ];
+    let table = String::from_utf8(hopsim_ok(&args).stdout).unwrap();
+    assert!(table.contains("1 solver failed"), "{table}");
+    let v = json(
+        &[
+            &args[..],
+            &["--json", "--out", dir.path().to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert_eq!(v["no_fixed_point_reasons"]["solver-failed"], 1, "{v}");
+    let point = &v["points"][0];
+    assert_eq!(point["reason_kind"], "solver-failed");
+    assert!(point["reason"]
+        .as_str()
+        .unwrap()
+        .starts_with("solver failed: residual"));
+    let csv = std::fs::read_to_string(dir.path().join("fixed_points.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .nth(1)
+            .unwrap()
+            .contains("solver failed: residual"),
+        "{csv}"
+    );
+}
+
+#[test]
+fn quiet_prints_nothing_but_keeps_json_and_files() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &[
+            "analyze",
+            "template",
+            "--grid",
+            "cargo",
+            "--resolution",
+            "3",
+        ][..],
+        &["analyze", "impulsive-wheel"][..],
+        &[
+            "analyze",
+            "obstacle",
+            "--resolution",
+            "2",
+            "--map-height-ratios",
+            "0.2",
+        ][..],
+        &["analyze", "fixed-points", "--grid", "2x2"][..],
+    ] {
+        let out = dir.path().join(args[1]);
+        let quiet = hopsim_ok(&[args, &["-q", "--out", out.to_str().unwrap()]].concat());
+        assert!(quiet.stdout.is_empty(), "{args:?}: {:?}", quiet.stdout);
+        assert!(quiet.stderr.is_empty(), "{args:?}: {:?}", quiet.stderr);
+        assert!(std::fs::read_dir(&out).unwrap().count() > 0, "{args:?}");
+        let v = json(&[args, &["--quiet", "--json"]].concat());
+        assert!(v["analysis"].is_string(), "{args:?}");
+    }
 }

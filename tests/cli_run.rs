@@ -75,6 +75,10 @@ fn run_writes_every_output_and_a_complete_summary() {
     for key in ["count", "total_Ns"] {
         assert!(json["impulses"].get(key).is_some(), "impulses.{key}");
     }
+    assert_eq!(
+        json["impulses"]["unit"], "N m s",
+        "brakes transfer angular impulse"
+    );
     for key in [
         "kinetic",
         "potential",
@@ -90,7 +94,7 @@ fn run_writes_every_output_and_a_complete_summary() {
     }
     for key in [
         "brakes_per_s",
-        "impulse_per_distance_Ns_per_m",
+        "impulse_per_distance_Nms_per_m",
         "cube_baseline",
     ] {
         assert!(json["robbit"].get(key).is_some(), "robbit.{key}");
@@ -233,4 +237,122 @@ fn help_is_available_for_every_command() {
         assert!(out.status.success(), "{args:?}");
         assert!(text(&out.stdout).contains("Usage"), "{args:?}");
     }
+}
+
+#[test]
+fn outputs_on_one_path_or_on_the_scene_are_refused_before_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("robbit.toml");
+    std::fs::copy("scenes/robbit.toml", &scene).unwrap();
+    let original = std::fs::read_to_string(&scene).unwrap();
+    let s = scene.display().to_string();
+    let csv = dir.path().join("a.csv").display().to_string();
+    for (args, expect) in [
+        (vec!["--summary", s.as_str()], "that is the scene file"),
+        (
+            vec!["--csv", csv.as_str(), "--summary", csv.as_str()],
+            "is also the --csv output",
+        ),
+    ] {
+        let mut all = vec!["run", s.as_str(), "--duration", "0.2", "-q"];
+        all.extend(args);
+        let out = hopsim(&all);
+        assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+        assert!(text(&out.stderr).contains(expect), "{}", text(&out.stderr));
+    }
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), original);
+    assert_eq!(files_in(dir.path()), [scene]);
+}
+
+/// Ctrl-C stops the run at the next step: exit 130, and neither outputs nor temporary
+/// files are left.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_run_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).display().to_string();
+    let child = Command::new(env!("CARGO_BIN_EXE_hopsim"))
+        .args(["run", "scenes/robbit.toml", "--duration", "2000", "-q"])
+        .args([
+            "--mcap",
+            &p("a.mcap"),
+            "--rrd",
+            &p("a.rrd"),
+            "--csv",
+            &p("a.csv"),
+        ])
+        .args(["--summary", &p("a.json")])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the recorders have created their temporary files, then interrupt.
+    let started = std::time::Instant::now();
+    while files_in(dir.path()).len() < 5 && started.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    // SAFETY: sends SIGINT to the child we spawned.
+    unsafe {
+        libc::kill(child.id() as libc::pid_t, libc::SIGINT);
+    }
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("interrupted at t ="),
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(files_in(dir.path()), Vec::<PathBuf>::new());
+}
+
+#[test]
+fn a_sweep_refuses_repeated_axes_and_fails_when_every_run_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().display().to_string();
+    let sweep = |extra: &[&str]| {
+        let mut args = vec!["sweep", "scenes/robbit.toml", "--duration", "0.5", "-q"];
+        args.extend(["--out", out_dir.as_str()]);
+        args.extend(extra);
+        hopsim(&args)
+    };
+    let twice = sweep(&[
+        "--grid",
+        "controller.torque=0.1,0.2",
+        "--grid",
+        "controller.torque=0.3",
+    ]);
+    assert_eq!(twice.status.code(), Some(2));
+    assert!(
+        text(&twice.stderr).contains("given twice"),
+        "{}",
+        text(&twice.stderr)
+    );
+    let bad_baseline = sweep(&[
+        "--grid",
+        "controller.torque=0.1",
+        "--baseline",
+        "b:controller.torqe=1",
+    ]);
+    assert_eq!(bad_baseline.status.code(), Some(2));
+    assert!(text(&bad_baseline.stderr).contains("baseline 'b' is invalid"));
+    let all_fail = sweep(&[
+        "--grid",
+        "controller.torque=0.1,0.2",
+        "--set",
+        "simulation.max_speed=1",
+    ]);
+    assert_eq!(
+        all_fail.status.code(),
+        Some(3),
+        "{}",
+        text(&all_fail.stderr)
+    );
+    assert!(text(&all_fail.stderr).contains("every run failed"));
+    let csv = std::fs::read_to_string(dir.path().join("sweep.csv")).unwrap();
+    assert_eq!(
+        csv.lines().filter(|l| l.contains(",error,\"step ")).count(),
+        2,
+        "{csv}"
+    );
 }

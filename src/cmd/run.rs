@@ -2,13 +2,15 @@
 
 use anyhow::Context;
 use clap::Args;
-use hopsim_record::{CsvRecorder, McapRecorder, RecorderSet, RerunRecorder};
+use hopsim_record::{AtomicFile, CsvRecorder, McapRecorder, RecorderSet, RerunRecorder};
 use hopsim_scene::Override;
 use hopsim_sim::{recording_info, RecordingObserver, RunError, RunOptions};
 use hopsim_step::StepError;
-use std::path::PathBuf;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use super::interrupt::{self, StopOnSignal};
 use super::{exit, scene::SceneArgs};
 
 /// Simulate a scene file, record the trajectory and print the run summary.
@@ -47,25 +49,31 @@ pub struct RunArgs {
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let mut extra = Vec::new();
-    let mut set = |key: &str, value: String| {
-        extra.push(Override {
-            key: key.into(),
-            value,
-        })
-    };
     if let Some(d) = args.duration {
-        set("simulation.duration", format!("{d:?}"));
+        extra.push(Override::from_flag(
+            "--duration",
+            "simulation.duration",
+            format!("{d:?}"),
+        ));
     }
     if let Some(dt) = args.dt {
-        set("simulation.dt", format!("{dt:?}"));
+        extra.push(Override::from_flag(
+            "--dt",
+            "simulation.dt",
+            format!("{dt:?}"),
+        ));
     }
     if args.strict {
-        set("simulation.strict", "true".into());
+        extra.push(Override::from_flag("--strict", "simulation.strict", "true"));
     }
     let scene = match args.scene.load(&extra) {
         Ok(scene) => scene,
         Err(code) => return Ok(code),
     };
+    if let Err(message) = check_output_paths(&args, &scene.path) {
+        eprintln!("error: {message}");
+        return Ok(ExitCode::from(exit::INVALID_INPUT));
+    }
     let info = recording_info(&scene);
     let mut recorders = RecorderSet::default();
     if let Some(path) = &args.mcap {
@@ -80,12 +88,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.csv {
         recorders.push(Box::new(CsvRecorder::create(path, &info)?));
     }
+    // Opened before the run, so that an unwritable path fails before the simulation.
+    let summary_file = args
+        .summary
+        .as_deref()
+        .map(AtomicFile::create)
+        .transpose()?;
     let mut observer = RecordingObserver::new(recorders, &scene);
     let options = RunOptions {
         progress: (!args.quiet)
             .then(|| super::progress::bar(scene.settings.duration, "simulating")),
     };
-    let summary = match hopsim_sim::run(&scene, &options, &mut observer) {
+    interrupt::install();
+    let summary = match hopsim_sim::run(&scene, &options, &mut StopOnSignal(&mut observer)) {
         Ok(summary) => summary,
         Err(err) => {
             // Recorders dropped unfinished leave no output file behind.
@@ -96,20 +111,66 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
                     "note: u_{index} is the rate of '{name}' (simulation.max_speed sets the limit)"
                 );
             }
-            if observer.records_anything() {
-                eprintln!("error: no recording was written: the run did not finish");
+            if observer.records_anything() || summary_file.is_some() {
+                eprintln!("error: no output was written: the run did not finish");
             }
-            return Ok(ExitCode::from(exit::SIMULATION_FAILED));
+            return Ok(ExitCode::from(match err {
+                RunError::Step(_) => exit::SIMULATION_FAILED,
+                RunError::Record(_) => 1,
+                RunError::Interrupted { .. } => exit::INTERRUPTED,
+            }));
         }
     };
     observer.finish()?;
-    if let Some(path) = &args.summary {
-        let json = serde_json::to_string_pretty(&summary)?;
-        hopsim_record::write_atomically(path, |w| w.write_all(json.as_bytes()))
+    if let Some(mut file) = summary_file {
+        let path = file.path().to_path_buf();
+        serde_json::to_writer_pretty(&mut file, &summary)
+            .map_err(std::io::Error::from)
+            .and_then(|()| file.write_all(b"\n"))
             .with_context(|| format!("writing the summary to {}", path.display()))?;
+        file.commit()?;
     }
     if !args.quiet {
         println!("{summary}");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Output files must differ from each other and from the scene file: a summary written
+/// over the scene, or a CSV over the MCAP, would silently lose one of them.
+fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<(), String> {
+    let mut outputs: Vec<(&str, PathBuf)> = Vec::new();
+    let flags = [
+        ("--mcap", &args.mcap),
+        ("--rrd", &args.rrd),
+        ("--csv", &args.csv),
+        ("--summary", &args.summary),
+    ];
+    for (flag, path) in flags {
+        if let Some(path) = path {
+            outputs.push((flag, path.clone()));
+        }
+    }
+    if let Some(csv) = &args.csv {
+        outputs.push(("--csv (events)", CsvRecorder::events_path(csv)));
+    }
+    let same = |a: &Path, b: &Path| match (std::path::absolute(a), std::path::absolute(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    for (i, (flag, path)) in outputs.iter().enumerate() {
+        if same(path, scene) {
+            return Err(format!(
+                "{flag} {}: that is the scene file; choose another output path",
+                path.display()
+            ));
+        }
+        if let Some((other, _)) = outputs[..i].iter().find(|(_, p)| same(p, path)) {
+            return Err(format!(
+                "{flag} {} is also the {other} output; each output needs its own path",
+                path.display()
+            ));
+        }
+    }
+    Ok(())
 }

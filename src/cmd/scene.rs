@@ -67,7 +67,7 @@ fn describe(scene: &Scene) -> String {
             m.bodies[c.flywheel].name, c.torque, c.impulse_limit
         ),
         ControllerConfig::Pulse(c) => format!(
-            "torque pulse on '{}' (±{} N m for {} s every {:.4} s), cane {:?}",
+            "torque pulse on '{}' (±{} N m for {} s every {:.4} s), cane {}",
             m.bodies[c.joint_body].name, c.torque, c.pulse_duration, c.period, c.cane
         ),
     };

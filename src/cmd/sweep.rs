@@ -11,7 +11,7 @@ use hopsim_sim::{grid_jobs, CubeBaseline, GridAxis, Summary, SweepJob, SweepPoin
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use super::{progress, scene::SceneArgs};
+use super::{exit, progress, scene::SceneArgs};
 
 /// Run a scene over a grid of parameter values in parallel; write a CSV of the run
 /// summaries and a plot.
@@ -78,12 +78,12 @@ const METRICS: &[Metric] = &[
     ("hops", |s| s.hops as f64),
     ("distance_per_hop_m", |s| s.distance_per_hop_m),
     ("impulses_count", |s| s.impulses.count as f64),
-    ("impulses_total_Ns", |s| s.impulses.total_ns),
-    ("impulse_per_distance_Ns_per_m", |s| s.impulse_per_distance),
+    ("impulses_total_Nms", |s| s.impulses.total_ns),
+    ("impulse_per_distance_Nms_per_m", |s| s.impulse_per_distance),
     ("brakes_per_s", |s| {
         s.robbit.as_ref().map_or(f64::NAN, |r| r.brakes_per_s)
     }),
-    ("window_impulse_per_distance_Ns_per_m", |s| {
+    ("window_impulse_per_distance_Nms_per_m", |s| {
         s.robbit
             .as_ref()
             .map_or(f64::NAN, |r| r.impulse_per_distance)
@@ -124,10 +124,7 @@ fn metric(name: &str, s: &Summary) -> f64 {
 pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let extra: Vec<Override> = args
         .duration
-        .map(|d| Override {
-            key: "simulation.duration".into(),
-            value: format!("{d:?}"),
-        })
+        .map(|d| Override::from_flag("--duration", "simulation.duration", format!("{d:?}")))
         .into_iter()
         .collect();
     // Validate the base scene once, so a broken file fails before hundreds of runs do.
@@ -135,19 +132,36 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
         Ok(scene) => scene,
         Err(code) => return Ok(code),
     };
-    let mut jobs = grid_jobs(&args.grid);
-    // A misspelt grid key would fail every run: check the first point once.
-    let mut first = extra.clone();
-    first.extend(jobs[0].overrides.iter().cloned());
-    if let Err(code) = args.scene.load(&first) {
-        eprintln!("error: the grid's first point is invalid (see above); nothing was run");
-        return Ok(code);
+    if let Some(message) = repeated_names(&args) {
+        eprintln!("error: {message}");
+        return Ok(ExitCode::from(exit::INVALID_INPUT));
     }
-    jobs.extend(args.baselines.iter().map(|b| SweepJob {
+    let mut jobs = grid_jobs(&args.grid);
+    let baselines = args.baselines.iter().map(|b| SweepJob {
         label: b.name.clone(),
         values: Vec::new(),
         overrides: b.overrides.clone(),
-    }));
+    });
+    let first_baseline = jobs.len();
+    jobs.extend(baselines);
+    // A misspelt key would fail every run: check the grid's first point and every
+    // baseline once.
+    for (i, job) in jobs.iter().enumerate() {
+        if i > 0 && i < first_baseline {
+            continue;
+        }
+        let mut overrides = extra.clone();
+        overrides.extend(job.overrides.iter().cloned());
+        if let Err(code) = args.scene.load(&overrides) {
+            let what = if i == 0 {
+                "the grid's first point".to_string()
+            } else {
+                format!("baseline '{}'", job.label)
+            };
+            eprintln!("error: {what} is invalid (see above); nothing was run");
+            return Ok(code);
+        }
+    }
     let mut base = args.scene.overrides.clone();
     base.extend(extra);
     let bar = progress::count_bar(jobs.len() as u64, "runs", args.quiet);
@@ -180,7 +194,46 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
             println!("wrote {}", p.display());
         }
     }
+    let failed = points.iter().filter(|p| p.result.is_err()).count();
+    if failed == points.len() {
+        eprintln!(
+            "error: every run failed (their errors are in {})",
+            csv.display()
+        );
+        return Ok(ExitCode::from(exit::SIMULATION_FAILED));
+    }
+    if failed > 0 {
+        eprintln!(
+            "warning: {failed} of {} runs failed (status = error in {})",
+            points.len(),
+            csv.display()
+        );
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A grid key given twice, or a baseline named like another or like the grid's rows.
+fn repeated_names(args: &SweepArgs) -> Option<String> {
+    let keys: Vec<&str> = args.grid.iter().map(|a| a.key.as_str()).collect();
+    if let Some((_, key)) = keys
+        .iter()
+        .enumerate()
+        .find(|(i, k)| keys[..*i].contains(k))
+    {
+        return Some(format!("--grid {key} is given twice; give each axis once"));
+    }
+    let mut names = vec!["grid"];
+    for b in &args.baselines {
+        if names.contains(&b.name.as_str()) {
+            return Some(format!(
+                "--baseline name '{}' is taken (by another baseline or the grid's rows); \
+                 give each baseline its own name",
+                b.name
+            ));
+        }
+        names.push(&b.name);
+    }
+    None
 }
 
 /// One CSV row per run: label, grid values, status, error, then every metric.
@@ -219,7 +272,7 @@ fn speed_against_impulse(scene: &Scene, points: &[SweepPoint]) -> LinePlot {
         .collect();
     let mut plot = LinePlot::new(
         format!("{}: speed against transferred impulse", scene.title),
-        "transferred impulse per distance [N s/m]",
+        "transferred angular impulse per distance [N m s/m]",
         "mean speed [m/s]",
     )
     .with_series(Series::points("simulated runs", runs.clone()));
@@ -305,6 +358,7 @@ fn report(axes: &[GridAxis], points: &[SweepPoint]) {
                 .join(" ")
         };
         match &p.result {
+            Ok(s) if s.hops == 0 => format!("  {at}: {:.4} m/s, no hop", s.mean_speed_mps),
             Ok(s) => format!(
                 "  {at}: {:.4} m/s, {} hops, {:.4} m per hop",
                 s.mean_speed_mps, s.hops, s.distance_per_hop_m

@@ -79,7 +79,7 @@ impl FixedPoint {
         self.cycle.speed()
     }
 
-    /// Impulse per travelled distance `ζ0 / stride` [N s] (physics.md §5.3).
+    /// Impulse per travelled distance `ζ0 / stride` [N m s per m] (physics.md §5.3).
     pub fn impulse_per_distance(&self) -> f64 {
         self.control.impulse_limit / self.cycle.stride
     }
@@ -129,7 +129,8 @@ pub enum NoFixedPoint {
         /// Why.
         reason: NoCycle,
     },
-    /// Levenberg–Marquardt did not reach the tolerance from any start.
+    /// Levenberg–Marquardt did not reach the tolerance from any start ("solver failed").
+    #[serde(rename = "solver-failed")]
     NotConverged {
         /// Smallest residual reached [rad].
         residual: f64,

@@ -55,6 +55,7 @@ impl Default for ImpulsiveWheel {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FixedPoint {
     /// `‖ζ‖` [N s].
+    #[serde(rename = "impulse_Ns")]
     pub impulse_ns: f64,
     /// `c = R ‖ζ‖² / (m I g)` [rad].
     pub coupling: f64,

@@ -182,15 +182,28 @@ pub enum RollingPath {
     FlewOff,
 }
 
+impl RollingPath {
+    /// Name for tables; the same as the JSON value (`pivot-over`, `flew-off`).
+    pub fn name(self) -> &'static str {
+        match self {
+            RollingPath::PivotOver => "pivot-over",
+            RollingPath::FlewOff => "flew-off",
+        }
+    }
+}
+
 /// The rolling strategy's energy account.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RollingCrossing {
     /// Loss of the first impact with the edge [J].
+    #[serde(rename = "corner_loss_J")]
     pub corner_loss_j: f64,
     /// Losses of all later impacts (landing behind the wall, re-contacts of the edge) [J].
+    #[serde(rename = "landing_loss_J")]
     pub landing_loss_j: f64,
     /// Energy a drive had to add to get the centre over the edge [J] (0 when the wheel's
     /// own kinetic energy sufficed).
+    #[serde(rename = "climb_assist_J")]
     pub climb_assist_j: f64,
     /// Number of impacts.
     pub impacts: usize,
@@ -200,6 +213,7 @@ pub struct RollingCrossing {
     pub final_speed_mps: f64,
     /// Cost: `climb_assist + max(0, T_approach − T_final)` [J]; without assist this is
     /// `corner + landing losses`.
+    #[serde(rename = "cost_J")]
     pub cost_j: f64,
 }
 
@@ -429,16 +443,21 @@ pub struct RotationalHop {
     /// Spin after the reversal `φ̇⁺` [rad/s] (counter-clockwise).
     pub spin_rad_s: f64,
     /// Braking the rolling spin, `½ I φ̇⁻²` [J].
+    #[serde(rename = "braking_J")]
     pub braking_j: f64,
     /// Spinning up, `½ I φ̇⁺²` [J].
+    #[serde(rename = "spin_J")]
     pub spin_j: f64,
     /// Loss of the touchdown impact [J].
+    #[serde(rename = "touchdown_loss_J")]
     pub touchdown_loss_j: f64,
     /// Energy missing after touchdown to resume the approach state [J] (≥ 0).
+    #[serde(rename = "deficit_J")]
     pub deficit_j: f64,
     /// Height of the foot's lowest point above the wall at the apex [m] (≥ 0).
     pub clearance_m: f64,
     /// Cost `braking + spin + deficit` [J].
+    #[serde(rename = "cost_J")]
     pub cost_j: f64,
 }
 
@@ -606,10 +625,12 @@ pub struct StepComparison {
     /// `h/R`.
     pub height_ratio: f64,
     /// `m g R` [J], the unit of the `*_per_mgr` costs.
+    #[serde(rename = "energy_unit_J")]
     pub energy_unit_j: f64,
     /// Rolling.
     pub rolling: RollingCrossing,
     /// Trivial hop cost [J].
+    #[serde(rename = "trivial_hop_J")]
     pub trivial_hop_j: f64,
     /// Rotational hop (None when it cannot clear the wall).
     pub rotational_hop: Option<RotationalHop>,

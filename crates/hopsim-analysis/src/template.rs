@@ -94,13 +94,20 @@ impl TemplateParams {
                 "must lie in (−π, π)",
             ));
         }
-        if self.window == 0 || self.hops < self.window {
+        if self.window == 0 {
             return Err(AnalysisError::invalid(
-                "hops",
-                self.hops as f64,
+                "window",
+                0.0,
+                "must be at least 1 (hops averaged at the end of the run)",
+            ));
+        }
+        if self.hops < self.window {
+            return Err(AnalysisError::invalid(
+                "window",
+                self.window as f64,
                 &format!(
-                    "must be at least the averaging window ({} hops) and ≥ 1",
-                    self.window.max(1)
+                    "must not exceed the number of hops (`hops` = {})",
+                    self.hops
                 ),
             ));
         }
@@ -706,14 +713,17 @@ pub struct HopRecord {
     /// `φ̇` just before the impulse [rad/s].
     pub takeoff_angular_velocity_rad_s: f64,
     /// `‖ζ‖` [N s].
+    #[serde(rename = "impulse_Ns")]
     pub impulse_ns: f64,
     /// Flight time [s].
     pub flight_time_s: f64,
     /// `φ` at touchdown [rad].
     pub touchdown_angle_rad: f64,
     /// Kinetic energy lost at touchdown [J].
+    #[serde(rename = "touchdown_loss_J")]
     pub touchdown_loss_j: f64,
     /// Normal percussion at touchdown [N s] (negative would mean the ground pulls).
+    #[serde(rename = "touchdown_normal_percussion_Ns")]
     pub touchdown_normal_percussion_ns: f64,
     /// Stance time [s].
     pub stance_time_s: f64,
@@ -742,12 +752,14 @@ pub struct GaitSummary {
     /// Froude number `u² / (g l)`.
     pub froude_number: f64,
     /// Mean take-off impulse `‖ζ‖` [N s].
+    #[serde(rename = "impulse_Ns")]
     pub impulse_ns: f64,
     /// Mean flight time [s].
     pub flight_time_s: f64,
     /// Mean touchdown angle [rad].
     pub touchdown_angle_rad: f64,
     /// Mean touchdown loss [J] (equals `ΔE` on a converged gait).
+    #[serde(rename = "touchdown_loss_J")]
     pub touchdown_loss_j: f64,
     /// `(max − min) / mean` of the per-hop speeds in the window.
     pub speed_spread: f64,
@@ -768,6 +780,7 @@ pub struct TemplateRun {
     pub no_gait: Option<NoGait>,
     /// Smallest normal ground force in any stance [N] (negative: the template's rolling
     /// constraint needed a pulling ground).
+    #[serde(rename = "min_stance_normal_force_N")]
     pub min_stance_normal_force_n: f64,
     /// Centre-of-mass trajectory, when recorded.
     pub trajectory: Vec<TrajectorySample>,

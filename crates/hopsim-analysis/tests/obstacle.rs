@@ -213,3 +213,11 @@ fn invalid_obstacles_are_errors() {
     let j = corner_jacobian(1.0, 0.2);
     assert!((j[(1, 2)] - (2.0 * 0.2 - 0.04f64).sqrt()).abs() < 1e-15);
 }
+
+/// Tables print the rolling path by the name the JSON gives it.
+#[test]
+fn rolling_path_names_match_the_json() {
+    for path in [RollingPath::PivotOver, RollingPath::FlewOff] {
+        assert_eq!(serde_json::to_value(path).unwrap(), path.name());
+    }
+}

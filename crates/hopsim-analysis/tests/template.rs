@@ -258,6 +258,19 @@ fn invalid_parameters_are_errors_not_panics() {
             Err(AnalysisError::InvalidParameter { .. })
         ));
     }
+    // The averaging window: the error names `window` with the value given.
+    for (window, hops, expected) in [
+        (0, 100, "invalid parameter `window` = 0"),
+        (200, 100, "invalid parameter `window` = 200"),
+    ] {
+        let p = TemplateParams {
+            window,
+            hops,
+            ..base
+        };
+        let err = simulate(&p, false).unwrap_err().to_string();
+        assert!(err.contains(expected), "{err}");
+    }
     let err = TemplateCase::from_name("kangaroo").unwrap_err().to_string();
     for name in ["cargo-1", "cargo-2", "wallaby", "kangaroo-rat"] {
         assert!(err.contains(name), "{err}");

@@ -34,6 +34,18 @@ pub enum CaneMode {
     },
 }
 
+impl std::fmt::Display for CaneMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CaneMode::Retracted => write!(f, "always retracted"),
+            CaneMode::Extended => write!(f, "always extended"),
+            CaneMode::Timed { delay, duration } => {
+                write!(f, "extended from CD = {delay} P for CDC = {duration} P")
+            }
+        }
+    }
+}
+
 /// Open-loop bi-directional joint torque pulse with a cane schedule (physics.md §5.4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PulseConfig {

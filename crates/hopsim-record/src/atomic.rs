@@ -91,5 +91,17 @@ pub(crate) fn temporary_file_for(path: &Path) -> Result<NamedTempFile, RecordErr
     // `File::create` would give it, read-write for all less the umask.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    builder.tempfile_in(dir).map_err(io)
+    builder
+        .tempfile_in(dir)
+        .map_err(|e| io(without_temporary_path(e)))
+}
+
+/// The operating system's error without the temporary file's path that `tempfile` appends
+/// (`… at path "…partial-…"`): the user named the final path, which the error carries.
+fn without_temporary_path(e: io::Error) -> io::Error {
+    let text = e.to_string();
+    match text.rfind(" at path ") {
+        Some(end) => io::Error::new(e.kind(), &text[..end]),
+        None => e,
+    }
 }

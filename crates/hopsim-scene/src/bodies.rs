@@ -113,10 +113,12 @@ pub(crate) fn read_bodies(
                         "absolute" => JointCoordinate::Absolute,
                         _ => JointCoordinate::Relative,
                     };
-                coordinates.push(match t.opt_str("coordinate_name")? {
+                let coordinate_name = match t.opt_str("coordinate_name")? {
                     Some(c) => c.to_string(),
                     None => format!("theta_{name}"),
-                });
+                };
+                check_coordinate_name(t, &coordinate_name, &coordinates)?;
+                coordinates.push(coordinate_name);
                 Some(Joint {
                     parent,
                     pivot_in_parent: vec2(t.vec2("pivot", Some([0.0; 2]), "m")?),
@@ -304,4 +306,33 @@ pub(crate) fn read_springs(
 
 fn vec2(v: [f64; 2]) -> Vec2 {
     Vec2::new(v[0], v[1])
+}
+
+/// A joint coordinate's name labels recorded columns and fields: it must be an identifier
+/// (letters, digits, `_`, not starting with a digit) and differ from every other
+/// coordinate's name (`x`, `y`, `phi` included).
+fn check_coordinate_name(t: &Table<'_>, name: &str, taken: &[String]) -> Result<(), SceneError> {
+    let identifier = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    if !identifier {
+        return Err(t.error_at_key(
+            "coordinate_name",
+            format!(
+                "expected a name of letters, digits and '_' not starting with a digit, found '{name}'"
+            ),
+        ));
+    }
+    if taken.iter().any(|c| c == name) {
+        return Err(t.error_at_key(
+            "coordinate_name",
+            format!(
+                "the coordinate '{name}' already exists (coordinates so far: {}); names must be unique",
+                taken.join(", ")
+            ),
+        ));
+    }
+    Ok(())
 }

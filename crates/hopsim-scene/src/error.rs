@@ -13,7 +13,7 @@ pub enum Location {
         line: usize,
         column: usize,
     },
-    /// A command-line override, as typed: `--set key=value`.
+    /// A command-line override, as the user gave it ([`crate::Override::text`]).
     Override(String),
 }
 
@@ -23,7 +23,7 @@ impl std::fmt::Display for Location {
             Location::File { path, line, column } => {
                 write!(f, "{}:{line}:{column}", path.display())
             }
-            Location::Override(text) => write!(f, "--set {text}"),
+            Location::Override(text) => write!(f, "{text}"),
         }
     }
 }
@@ -49,7 +49,7 @@ pub enum SceneError {
         message: String,
     },
     /// A `--set` argument that is not `key=value`.
-    #[error("--set {text}: {message}")]
+    #[error("{text}: {message}")]
     Override { text: String, message: String },
 }
 

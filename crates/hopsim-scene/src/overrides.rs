@@ -8,19 +8,40 @@
 use crate::error::SceneError;
 use crate::tree::{parse_override_value, Entry, Kind, Node, Origin};
 
-/// One `--set key=value` argument.
+/// One `--set key=value` argument, or a value another option (`--duration`, `--grid`)
+/// sets in the scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Override {
     /// Dotted key path, e.g. `controller.torque`.
     pub key: String,
     /// The value as typed (TOML syntax; bare words are strings).
     pub value: String,
+    /// The command-line option it came from, named in errors: `--set` unless another.
+    pub flag: &'static str,
 }
 
 impl Override {
-    /// The argument as typed, `key=value`.
+    /// `--set key=value`.
+    pub fn new(key: impl Into<String>, value: impl Into<String>) -> Self {
+        Self::from_flag("--set", key, value)
+    }
+
+    /// `key = value` set by the option `flag` (e.g. `--duration` sets
+    /// `simulation.duration`).
+    pub fn from_flag(flag: &'static str, key: impl Into<String>, value: impl Into<String>) -> Self {
+        Self {
+            key: key.into(),
+            value: value.into(),
+            flag,
+        }
+    }
+
+    /// The argument as the user gave it: `--set key=value`, or `--duration (key=value)`.
     pub fn text(&self) -> String {
-        format!("{}={}", self.key, self.value)
+        match self.flag {
+            "--set" => format!("--set {}={}", self.key, self.value),
+            flag => format!("{flag} ({}={})", self.key, self.value),
+        }
     }
 }
 
@@ -37,10 +58,7 @@ impl std::str::FromStr for Override {
                 "'{s}': the key must be a dotted path such as controller.torque"
             ));
         }
-        Ok(Self {
-            key: key.to_string(),
-            value: value.trim().to_string(),
-        })
+        Ok(Self::new(key, value.trim()))
     }
 }
 
@@ -161,7 +179,7 @@ mod tests {
             panic!()
         };
         assert!(matches!(q[1].kind, Kind::Float(v) if v == 0.5));
-        assert_eq!(q[1].origin, Origin::Override("i.q.1=0.5".into()));
+        assert_eq!(q[1].origin, Origin::Override("--set i.q.1=0.5".into()));
         assert!(matches!(get(get(&root, "new"), "x").kind, Kind::Bool(true)));
     }
 

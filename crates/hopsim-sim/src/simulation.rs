@@ -16,6 +16,9 @@ pub enum RunError {
     Step(#[from] StepError),
     #[error("recording failed: {0}")]
     Record(#[from] RecordError),
+    /// The user stopped the run (an observer saw Ctrl-C), at simulation time `t`.
+    #[error("interrupted at t = {t:.6} s")]
+    Interrupted { t: f64 },
 }
 
 /// Options of a run beyond the scene's settings.

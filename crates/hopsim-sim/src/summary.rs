@@ -8,13 +8,20 @@ use hopsim_record::{EnergySample, EventKind};
 use hopsim_scene::Scene;
 use serde::Serialize;
 
-/// Impulses applied by actuators (brakes, applied impulses).
+/// Impulses applied by actuators: the brakes' angular impulses `ζ` (physics.md §5.3).
+///
+/// The JSON keys `total_Ns` and `impulse_per_distance_Ns_per_m` are the run-summary
+/// contract's names; the values are in [`IMPULSE_UNIT`] (and per metre), given as `unit`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct ImpulseSummary {
     pub count: u64,
     #[serde(rename = "total_Ns")]
     pub total_ns: f64,
+    pub unit: &'static str,
 }
+
+/// Unit of the actuator impulses a scene can produce: brakes transfer angular impulse.
+pub const IMPULSE_UNIT: &str = "N m s";
 
 /// Energies at the end of the run and the account's error, J.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -35,11 +42,12 @@ pub struct LcpSummary {
 }
 
 /// The impulse-actuated cube of physics.md §5.3 [5.21] at the robot's mean speed:
-/// `ζ/x = g (m l² + I_S)(1 − ε) / (2 l u_x sin α)`, `l = 2(R − a)`, `α = π/4`.
+/// `ζ/x = g (m l² + I_S)(1 − ε) / (2 l u_x sin α)`, `l = 2(R − a)`, `α = π/4`, in N m s
+/// of angular impulse per metre.
 #[derive(Clone, Debug, Serialize)]
 pub struct CubeBaseline {
     pub restitution: f64,
-    #[serde(rename = "impulse_per_distance_Ns_per_m")]
+    #[serde(rename = "impulse_per_distance_Nms_per_m")]
     pub impulse_per_distance: f64,
 }
 
@@ -92,8 +100,8 @@ impl CubeBaseline {
 #[derive(Clone, Debug, Serialize)]
 pub struct RobbitSummary {
     pub brakes_per_s: f64,
-    /// `Σζ / distance` over the window.
-    #[serde(rename = "impulse_per_distance_Ns_per_m")]
+    /// `Σζ / distance` over the window, N m s per m.
+    #[serde(rename = "impulse_per_distance_Nms_per_m")]
     pub impulse_per_distance: f64,
     /// The cube at the same speed, for `ε = 0` and the scene's `summary.cube_restitution`;
     /// empty when the main body is not a disc.
@@ -158,7 +166,10 @@ impl SummaryCollector {
             window_start,
             x_start,
             x_window: (window_start <= 0.0).then_some(x_start),
-            impulses: ImpulseSummary::default(),
+            impulses: ImpulseSummary {
+                unit: IMPULSE_UNIT,
+                ..ImpulseSummary::default()
+            },
             window_impulse: 0.0,
             window_brakes: 0,
             max_penetration: 0.0,
@@ -189,7 +200,7 @@ impl SummaryCollector {
         let robbit = match &scene.controller {
             ControllerConfig::MomentumImpulse(_) => Some(RobbitSummary {
                 brakes_per_s: self.window_brakes as f64 / window,
-                impulse_per_distance: self.window_impulse / window_distance,
+                impulse_per_distance: per_forward_metre(self.window_impulse, window_distance),
                 cube_baseline: cube_baselines(scene, mean_speed),
             }),
             _ => None,
@@ -203,8 +214,12 @@ impl SummaryCollector {
             mean_speed_mps: mean_speed,
             speed_window_s: window,
             hops: sim.hops(),
-            distance_per_hop_m: distance / sim.hops() as f64,
-            impulse_per_distance: self.impulses.total_ns / distance,
+            distance_per_hop_m: if sim.hops() > 0 {
+                distance / sim.hops() as f64
+            } else {
+                f64::NAN
+            },
+            impulse_per_distance: per_forward_metre(self.impulses.total_ns, distance),
             impulses: self.impulses,
             energy: EnergySummary {
                 at_end: EnergySample::from_ledger(&e),
@@ -233,9 +248,21 @@ fn com_x(model: &Model, state: &hopsim_step::State) -> f64 {
     model.center_of_mass(&ws).x
 }
 
+/// `total / distance`, NaN (JSON `null`) unless the robot moved forward.
+fn per_forward_metre(total: f64, distance: f64) -> f64 {
+    if distance > 0.0 {
+        total / distance
+    } else {
+        f64::NAN
+    }
+}
+
 /// Cube baselines for `ε = 0` and `summary.cube_restitution` (empty when the main body
-/// is not a disc).
+/// is not a disc or the robot did not move forward: the cube's cost is per forward metre).
 fn cube_baselines(scene: &Scene, speed: f64) -> Vec<CubeBaseline> {
+    if speed <= 0.0 {
+        return Vec::new();
+    }
     [0.0, scene.settings.cube_restitution]
         .iter()
         .filter_map(|&eps| CubeBaseline::for_scene(scene, speed, eps))
@@ -274,6 +301,25 @@ impl Observer for SummaryCollector {
     }
 }
 
+/// `x` rounded to zero below the 4 decimals printed, so that round-off never shows as
+/// `-0.0000`.
+fn shown(x: f64) -> f64 {
+    if x.abs() < 5e-5 {
+        0.0
+    } else {
+        x
+    }
+}
+
+/// `value` in `unit` per metre, or a dash where the robot made no forward distance.
+fn per_metre(value: f64, unit: &str) -> String {
+    if value.is_finite() {
+        format!("{value:.4} {unit}/m")
+    } else {
+        "– (no forward distance)".into()
+    }
+}
+
 impl std::fmt::Display for Summary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let e = &self.energy.at_end;
@@ -298,11 +344,16 @@ impl std::fmt::Display for Summary {
         } else {
             writeln!(f, "  hops               {:>10} (no flight phase)", 0)?;
         }
-        writeln!(
-            f,
-            "  actuator impulses  {:>10} totalling {:.4} N s ({:.4} N s/m)",
-            self.impulses.count, self.impulses.total_ns, self.impulse_per_distance
-        )?;
+        let unit = self.impulses.unit;
+        if self.impulses.count > 0 {
+            writeln!(
+                f,
+                "  actuator impulses  {:>10} totalling {:.4} {unit} ({})",
+                self.impulses.count,
+                self.impulses.total_ns,
+                per_metre(self.impulse_per_distance, unit)
+            )?;
+        }
         if let Some(r) = &self.robbit {
             writeln!(
                 f,
@@ -311,20 +362,21 @@ impl std::fmt::Display for Summary {
             )?;
             writeln!(
                 f,
-                "  impulse/distance   {:>10.4} N s/m (last {w:.2} s)",
-                r.impulse_per_distance
+                "  impulse/distance   {:>10} (last {w:.2} s)",
+                per_metre(r.impulse_per_distance, unit)
             )?;
             for c in &r.cube_baseline {
                 writeln!(
                     f,
-                    "  cube, ε = {:<4}     {:>10.4} N s/m at the same speed",
-                    c.restitution, c.impulse_per_distance
+                    "  cube, ε = {:<4}     {:>10} at the same speed",
+                    c.restitution,
+                    per_metre(c.impulse_per_distance, unit)
                 )?;
             }
             if r.cube_baseline.is_empty() {
                 writeln!(
                     f,
-                    "  cube baseline      none: defined for a disc body (l = 2(R − a), §5.3)"
+                    "  cube baseline      none: needs a disc body (l = 2(R − a), §5.3) moving forward"
                 )?;
             }
         }
@@ -334,7 +386,9 @@ impl std::fmt::Display for Summary {
         writeln!(
             f,
             "  energy             kinetic {:.4} J, potential {:.4} J, spring {:.4} J",
-            e.kinetic, e.potential, e.spring
+            shown(e.kinetic),
+            shown(e.potential),
+            shown(e.spring)
         )?;
         writeln!(
             f,

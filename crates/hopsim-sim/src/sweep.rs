@@ -102,10 +102,7 @@ pub fn grid_jobs(axes: &[GridAxis]) -> Vec<SweepJob> {
             overrides: axes
                 .iter()
                 .zip(&values)
-                .map(|(axis, v)| Override {
-                    key: axis.key.clone(),
-                    value: format!("{v:?}"),
-                })
+                .map(|(axis, v)| Override::from_flag("--grid", axis.key.clone(), format!("{v:?}")))
                 .collect(),
             values,
         })

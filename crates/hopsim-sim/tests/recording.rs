@@ -37,14 +37,7 @@ impl Observer for Both<'_> {
 #[test]
 fn mcap_of_a_run_matches_the_simulation_records() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/robbit.toml");
-    let scene = hopsim_scene::load(
-        &path,
-        &[Override {
-            key: "simulation.duration".into(),
-            value: "2.0".into(),
-        }],
-    )
-    .unwrap();
+    let scene = hopsim_scene::load(&path, &[Override::new("simulation.duration", "2.0")]).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("run.mcap");
     let mut set = RecorderSet::default();

@@ -236,3 +236,115 @@ fn golden_brake_and_contact_impulses_of_the_first_second() {
         )
         .unwrap();
 }
+
+/// Per step: end time, the CoM abscissa `x` and the impulse of a brake engaged in it.
+#[derive(Default)]
+struct WindowLog {
+    steps: Vec<(f64, f64, Option<f64>)>,
+    /// Largest `|x − centre of mass|`: `x` is the robot's centre of mass (the flywheel
+    /// pivots there, physics.md §5.3).
+    max_com_offset: f64,
+}
+
+impl Observer for WindowLog {
+    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        let x = v.state.q[0];
+        let com = v.model.center_of_mass(v.kinematics).x;
+        self.max_com_offset = self.max_com_offset.max((x - com).abs());
+        let brake = v
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Brake { .. }))
+            .then(|| v.record.locks[0].impulse.abs());
+        assert!(
+            !v.events
+                .iter()
+                .any(|e| matches!(e.kind, EventKind::AppliedImpulse { .. })),
+            "Robbit applies no impulses but its brakes"
+        );
+        self.steps.push((v.state.t, x, brake));
+        Ok(())
+    }
+}
+
+/// The summary's Robbit figures (physics.md §5.3) recomputed from the run's own states
+/// and brakes over the window (the last `speed_window` s: from the first step ending at
+/// or after `duration − speed_window`, brakes in the steps ending after it): mean speed
+/// = CoM distance / window, brakes per second, `Σζ / distance`; and the cube baseline
+/// [5.21] `ζ/x = g (m l² + I_S)(1 − ε)/(2 l u_x sin α)`, `l = 2(R − a)`, `α = π/4`, from
+/// Table 5.1's values (scenes/robbit.toml) at the summary's mean speed, `ε = 0` and the
+/// scene's `cube_restitution = 0.5`. `m` is the robot's mass `m_S + m_R`: the flywheel
+/// rides on a free pivot at the CoM, so about the cube's edge it adds its mass but not
+/// `I_R`.
+#[test]
+fn summary_figures_follow_from_the_run_and_the_cube_formula() {
+    let scene = scene("robbit.toml", &[]);
+    let mut log = WindowLog::default();
+    let s = run(&scene, &mut log);
+    assert!(
+        log.max_com_offset < 1e-12,
+        "x vs CoM {}",
+        log.max_com_offset
+    );
+    let r = s.robbit.expect("Robbit figures in the summary");
+
+    let (t_end, x_end, _) = *log.steps.last().unwrap();
+    let t0 = scene.settings.duration - scene.settings.speed_window;
+    let start = log.steps.iter().position(|&(t, _, _)| t >= t0).unwrap();
+    let (_, x0, _) = log.steps[start];
+    let window = t_end - t0;
+    let distance = x_end - x0;
+    let in_window = log.steps.iter().filter(|&&(t, _, _)| t > t0);
+    let (brakes, zeta_sum) = in_window
+        .filter_map(|&(_, _, b)| b)
+        .fold((0u32, 0.0), |(n, sum), z| (n + 1, sum + z));
+    let speed = distance / window;
+    let brakes_per_s = f64::from(brakes) / window;
+    let impulse_per_distance = zeta_sum / distance;
+    eprintln!(
+        "window {window} s: {distance:.6} m, {speed:.6} m/s, {brakes} brakes \
+         ({brakes_per_s:.4}/s), Σζ {zeta_sum:.6} N m s ({impulse_per_distance:.6} per m); \
+         summary {:.6} m/s, {:.4}/s, {:.6} per m",
+        s.mean_speed_mps, r.brakes_per_s, r.impulse_per_distance
+    );
+    assert!((window - 10.0).abs() < 1e-9 && (s.speed_window_s - window).abs() < 1e-12);
+    assert!(brakes >= 5, "{brakes} brakes in the window");
+    let close = |a: f64, b: f64| {
+        eprintln!("  relative difference {:.1e}", (a - b).abs() / b.abs());
+        (a - b).abs() <= 1e-9 * b.abs()
+    };
+    assert!(
+        close(s.mean_speed_mps, speed),
+        "{} vs {speed}",
+        s.mean_speed_mps
+    );
+    assert!(
+        close(r.brakes_per_s, brakes_per_s),
+        "{} vs {brakes_per_s}",
+        r.brakes_per_s
+    );
+    assert!(
+        close(r.impulse_per_distance, impulse_per_distance),
+        "{} vs {impulse_per_distance}",
+        r.impulse_per_distance
+    );
+
+    // Table 5.1 (scenes/robbit.toml): R, a, m_S, m_R, I_S; g = 9.81.
+    let (radius, ecc, m_s, m_r, i_s, g) = (0.2, 0.1, 0.974, 0.431, 3.004e-3, 9.81);
+    let (m, l, alpha) = (m_s + m_r, 2.0 * (radius - ecc), std::f64::consts::FRAC_PI_4);
+    let u_x = s.mean_speed_mps;
+    assert_eq!(r.cube_baseline.len(), 2);
+    for (cube, eps) in r.cube_baseline.iter().zip([0.0, 0.5]) {
+        let expected = g * (m * l * l + i_s) * (1.0 - eps) / (2.0 * l * u_x * alpha.sin());
+        eprintln!(
+            "cube ε = {eps}: {:.6} (formula {expected:.6}) per m",
+            cube.impulse_per_distance
+        );
+        assert_eq!(cube.restitution, eps);
+        assert!(
+            close(cube.impulse_per_distance, expected),
+            "cube ε = {eps}: {} vs {expected}",
+            cube.impulse_per_distance
+        );
+    }
+}

@@ -266,9 +266,12 @@ fn robbit_brake_exchanges_momentum_and_the_energy_balance_closes() {
         e.dissipated()
     );
     assert!(e.dissipated() > 0.0);
+    // Robbit's mass matrix is constant and it has no springs, so the midpoint ledger is
+    // exact and the balance closes to round-off (measured 1.3e-13 J against flows of
+    // ~5 J); one step of motor work mis-booked (T ψ̇ Δt) would be ~1e-3 J.
     assert!(
-        max_error < 2e-3 * scale,
-        "balance error {max_error} vs flows {scale}"
+        max_error < 1e-9,
+        "balance error {max_error} J (flows {scale} J)"
     );
 }
 

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use crate::cmd::exit;
 
-/// `--json` and `--out DIR`, shared by every analyze subcommand.
+/// `--json`, `--out DIR` and `--quiet`, shared by every analyze subcommand.
 #[derive(Args, Clone, Debug)]
 pub struct OutputArgs {
     /// Print one JSON object instead of the table.
@@ -18,9 +18,18 @@ pub struct OutputArgs {
     /// Write CSV files and PNG/SVG plots into DIR (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Print nothing but errors (no progress bar, no table); --json still prints its
+    /// object and --out still writes its files.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 impl OutputArgs {
+    /// True when progress bars must not draw: with `--json` or `--quiet`.
+    pub fn hide_progress(&self) -> bool {
+        self.json || self.quiet
+    }
+
     /// With `--out DIR`: creates `DIR`, lets `write` fill it and returns the files written;
     /// without `--out`, writes nothing and returns no files.
     pub fn write_files(
@@ -234,9 +243,10 @@ pub fn check_all_finite(values: &[(&str, Option<f64>)]) -> anyhow::Result<()> {
         .try_for_each(|&(name, value)| check_finite(name, value))
 }
 
-/// A progress bar that draws only on a terminal and never in JSON mode.
-pub fn bar(len: usize, message: &str, json: bool) -> indicatif::ProgressBar {
-    if json {
+/// A progress bar that draws only on a terminal, and never when `hidden` (see
+/// [`OutputArgs::hide_progress`]).
+pub fn bar(len: usize, message: &str, hidden: bool) -> indicatif::ProgressBar {
+    if hidden {
         hopsim_analysis::progress::hidden_bar()
     } else {
         hopsim_analysis::progress::progress_bar(len, message)

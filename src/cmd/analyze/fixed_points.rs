@@ -190,8 +190,8 @@ fn eigen_json(l: &Complex) -> Value {
 fn fixed_point_json(p: &RobbitParams, fp: &FixedPoint) -> Value {
     let c = &fp.cycle;
     json!({
-        "torque_nm": fp.control.torque,
-        "impulse_limit_nms": fp.control.impulse_limit,
+        "torque_Nm": fp.control.torque,
+        "impulse_limit_Nms": fp.control.impulse_limit,
         "residual_rad": fp.residual,
         "iterations": fp.iterations,
         "jacobian": fp.jacobian,
@@ -205,13 +205,13 @@ fn fixed_point_json(p: &RobbitParams, fp: &FixedPoint) -> Value {
         "touchdown_angle_rad": c.touchdown_angle,
         "stance_time_s": c.stance.duration,
         "stance_reversals": c.stance.reversals,
-        "brake_loss_j": c.brake.energy_loss,
-        "touchdown_loss_j": c.touchdown.energy_loss,
-        "motor_work_j": c.stance.motor_work,
-        "impulse_per_distance_ns": fp.impulse_per_distance(),
-        "touchdown_normal_percussion_ns": c.touchdown.normal_percussion,
-        "touchdown_tangential_percussion_ns": c.touchdown.tangential_percussion,
-        "min_stance_normal_force_n": c.stance.min_normal_force,
+        "brake_loss_J": c.brake.energy_loss,
+        "touchdown_loss_J": c.touchdown.energy_loss,
+        "motor_work_J": c.stance.motor_work,
+        "impulse_per_distance_Nms_per_m": fp.impulse_per_distance(),
+        "touchdown_normal_percussion_Ns": c.touchdown.normal_percussion,
+        "touchdown_tangential_percussion_Ns": c.touchdown.tangential_percussion,
+        "min_stance_normal_force_N": c.stance.min_normal_force,
         "max_stance_friction_ratio": c.stance.max_friction_ratio,
         "warnings": fp.warnings(p),
     })
@@ -220,7 +220,7 @@ fn fixed_point_json(p: &RobbitParams, fp: &FixedPoint) -> Value {
 fn point_json(p: &RobbitParams, pt: &GridPoint) -> Value {
     let mut v = json!({
         "takeoff_angle_rad": pt.angle,
-        "takeoff_energy_j": pt.energy,
+        "takeoff_energy_J": pt.energy,
         "takeoff_rate_rad_s": pt.angular_velocity,
         "fixed_point": pt.fixed_point.is_some(),
         "stable": pt.fixed_point.as_ref().is_some_and(|f| f.stable),
@@ -241,7 +241,7 @@ fn reason_kind(r: &NoFixedPoint) -> String {
             .ok()
             .and_then(|v| v["kind"].as_str().map(str::to_string))
             .unwrap_or_else(|| "no-cycle".into()),
-        NoFixedPoint::NotConverged { .. } => "not-converged".into(),
+        NoFixedPoint::NotConverged { .. } => "solver-failed".into(),
         NoFixedPoint::MovesBackward { .. } => "moves-backward".into(),
     }
 }
@@ -322,9 +322,9 @@ fn simulation_json(p: &RobbitParams, sim: &Simulation) -> Value {
     let last = sim.run.brakes.last();
     json!({
         "takeoff_angle_rad": fp.state.angle,
-        "takeoff_energy_j": fp.state.energy(p),
-        "torque_nm": fp.control.torque,
-        "impulse_limit_nms": fp.control.impulse_limit,
+        "takeoff_energy_J": fp.state.energy(p),
+        "torque_Nm": fp.control.torque,
+        "impulse_limit_Nms": fp.control.impulse_limit,
         "dt_s": sim.run.settings.dt,
         "duration_s": sim.run.settings.duration,
         "brakes": sim.run.brakes.len(),
@@ -348,7 +348,7 @@ fn simulation_json(p: &RobbitParams, sim: &Simulation) -> Value {
         "angle_tolerance_rad": c.map(|c| c.angle_tolerance),
         "rate_tolerance_rad_s": c.map(|c| c.rate_tolerance),
         "max_penetration_m": sim.run.max_penetration,
-        "energy_balance_error_j": sim.run.energy_balance_error,
+        "energy_balance_error_J": sim.run.energy_balance_error,
         "elapsed_s": sim.elapsed_s,
         "takeoff_errors": c.map(|c| c.takeoffs.iter().map(|d| json!({
             "brake": d.index, "t_s": d.t, "angle_error_rad": d.angle_error, "rate_error_rad_s": d.rate_error,
@@ -457,7 +457,7 @@ fn write_simulation(out: &mut OutDir, sim: &Simulation) -> anyhow::Result<()> {
         "x_m",
         "takeoff_angle_rad",
         "takeoff_rate_rad_s",
-        "stored_impulse_nms",
+        "stored_impulse_Nms",
         "angle_error_rad",
         "rate_error_rad_s",
     ]);
@@ -551,6 +551,9 @@ fn run_point(
         }
         return common::print_json(&v);
     }
+    if args.output.quiet {
+        return Ok(());
+    }
     let mut t =
         Table::new("Robbit fixed point (physics.md §5.3; forward = +x, φ counter-clockwise)");
     t.row("flywheel at touchdown", p.touchdown.name()).row(
@@ -605,7 +608,7 @@ fn run_point(
                 )
                 .row(
                     "impulse per distance ζ0/stride",
-                    num(fp.impulse_per_distance(), "N s"),
+                    num(fp.impulse_per_distance(), "N m s/m"),
                 )
                 .row("residual", num(fp.residual, "rad"));
             print!("{t}");
@@ -644,11 +647,11 @@ fn complex(l: &Complex) -> String {
 fn grid_csv_table() -> CsvTable {
     CsvTable::new(&[
         "takeoff_angle_rad",
-        "takeoff_energy_j",
+        "takeoff_energy_J",
         "takeoff_rate_rad_s",
         "fixed_point",
-        "torque_nm",
-        "impulse_limit_nms",
+        "torque_Nm",
+        "impulse_limit_Nms",
         "lambda1_re",
         "lambda1_im",
         "lambda1_modulus",
@@ -662,7 +665,7 @@ fn grid_csv_table() -> CsvTable {
         "speed_mps",
         "stride_m",
         "period_s",
-        "impulse_per_distance_ns",
+        "impulse_per_distance_Nms_per_m",
         "stance_reversals",
         "warnings",
         "reason",
@@ -742,7 +745,7 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
         m,
     );
     let started = Instant::now();
-    let bar = common::bar(n * m, "Robbit fixed points", args.output.json);
+    let bar = common::bar(n * m, "Robbit fixed points", args.output.hide_progress());
     let points = grid.run(&bar)?;
     let elapsed = started.elapsed().as_secs_f64();
     let found: Vec<&GridPoint> = points.iter().filter(|q| q.fixed_point.is_some()).collect();
@@ -874,7 +877,7 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
             "parameters": params_json(p),
             "energy_definition": ENERGY_DEFINITION,
             "angles_rad": grid.angles,
-            "energies_j": grid.energies,
+            "energies_J": grid.energies,
             "points_total": points.len(),
             "fixed_points": found.len(),
             "stable_points": stable.len(),
@@ -889,6 +892,9 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
             "simulation": sim.as_ref().map_or(Value::Null, |s| simulation_json(p, s)),
             "files": files,
         }));
+    }
+    if args.output.quiet {
+        return Ok(());
     }
     let mut t = Table::new(format!(
         "Robbit fixed points (physics.md §5.3), {n} × {m} grid (φ_TO × E_TO)"
@@ -922,7 +928,9 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
         } else {
             reasons
                 .iter()
-                .map(|(k, v)| format!("{v} {k}"))
+                // The kinds of `no_fixed_point_reasons` in words, e.g. "2 solver failed", the
+                // words that start the CSV's and the JSON's reason text for that kind.
+                .map(|(k, v)| format!("{v} {}", k.replace('-', " ")))
                 .collect::<Vec<_>>()
                 .join(", ")
         },

@@ -119,18 +119,21 @@ pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
             "parameters": wheel,
             "rolling_speed_rad_s": wheel.rolling_speed(),
             "drift_rad": wheel.drift(),
-            "impulse_ns": fp.impulse_ns,
+            "impulse_Ns": fp.impulse_ns,
             "coupling": fp.coupling,
             "fixed_point_rad": fp.fixed_point_rad,
             "eigenvalue": fp.eigenvalue,
             "stable": fp.stable,
-            "stable_impulse_interval_ns": [lo, hi],
+            "stable_impulse_interval_Ns": [lo, hi],
             "series": series.iter().map(|(z, phis)| json!({
-                "impulse_ns": z,
+                "impulse_Ns": z,
                 "takeoff_angles_rad": phis,
             })).collect::<Vec<_>>(),
             "files": files,
         }));
+    }
+    if args.output.quiet {
+        return Ok(());
     }
     let mut t = Table::new("impulsive wheel return map (physics.md §5.5)");
     t.row(
@@ -192,7 +195,7 @@ fn write_outputs(
 ) -> anyhow::Result<()> {
     let impulses = linspace(args.impulse_min, args.impulse_max, args.bifurcation_points);
     let diagram = wheel.bifurcation(&impulses, args.initial_angle, TRANSIENT, KEEP);
-    let mut csv = CsvTable::new(&["impulse_ns", "takeoff_angle_rad"]);
+    let mut csv = CsvTable::new(&["impulse_Ns", "takeoff_angle_rad"]);
     let mut points = Vec::new();
     for (z, phis) in &diagram {
         for &phi in phis {
@@ -243,7 +246,7 @@ fn write_outputs(
         });
     }
     out.figure("bifurcation", &plot)?;
-    let mut csv = CsvTable::new(&["impulse_ns", "iteration", "takeoff_angle_rad"]);
+    let mut csv = CsvTable::new(&["impulse_Ns", "iteration", "takeoff_angle_rad"]);
     let mut plot = LinePlot::new(
         "impulsive wheel: iteration series",
         "iteration i",

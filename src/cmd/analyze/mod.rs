@@ -3,7 +3,8 @@
 //!
 //! Every subcommand prints a readable table by default, one JSON object with `--json`, and
 //! writes CSV files and PNG/SVG plots into `--out DIR` (created if missing, files written
-//! atomically). Invalid arguments exit with code 2.
+//! atomically); `-q/--quiet` hides the progress bar and the table. Invalid arguments exit
+//! with code 2.
 //!
 //! Adding a subcommand: create `src/cmd/analyze/<name>.rs` with a clap `Args` struct and
 //! `pub fn run(args) -> anyhow::Result<()>` (use [`common`] for output), then add one

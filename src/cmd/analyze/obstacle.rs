@@ -141,9 +141,9 @@ pub fn run(args: ObstacleArgs) -> anyhow::Result<()> {
             "froude": cmp.froude,
             "inertia_factor": cmp.inertia_factor,
             "height_ratio": cmp.height_ratio,
-            "energy_unit_j": unit,
+            "energy_unit_J": unit,
             "rolling": cmp.rolling,
-            "trivial_hop_j": cmp.trivial_hop_j,
+            "trivial_hop_J": cmp.trivial_hop_j,
             "rotational_hop": cmp.rotational_hop,
             "costs_per_mgr": {
                 "rolling": cmp.rolling.cost_j / unit,
@@ -154,6 +154,9 @@ pub fn run(args: ObstacleArgs) -> anyhow::Result<()> {
             "map_timings_s": timings.iter().map(|(name, s)| json!({"map": name, "elapsed_s": s})).collect::<Vec<_>>(),
             "files": files,
         }));
+    }
+    if args.output.quiet {
+        return Ok(());
     }
     let mut t = Table::new("wheel over a wall (physics.md §5.2)");
     t.row(
@@ -179,14 +182,14 @@ pub fn run(args: ObstacleArgs) -> anyhow::Result<()> {
     c.row(
         "rolling",
         format!(
-            "{} ({}): corner {} + landing {} J, climb assist {} J, {} impacts, {:?}",
+            "{} ({}): corner {} + landing {} J, climb assist {} J, {} impacts, path {}",
             num(r.cost_j, "J"),
             num(r.cost_j / unit, ""),
             num(r.corner_loss_j, ""),
             num(r.landing_loss_j, ""),
             num(r.climb_assist_j, ""),
             r.impacts,
-            r.path
+            r.path.name()
         ),
     )
     .row(
@@ -290,12 +293,12 @@ fn write_maps(
     let mut csv = CsvTable::new(&[
         "speed_mps",
         "froude",
-        "rolling_j",
-        "trivial_hop_j",
-        "rotational_hop_j",
-        "corner_loss_j",
-        "landing_loss_j",
-        "climb_assist_j",
+        "rolling_J",
+        "trivial_hop_J",
+        "rotational_hop_J",
+        "corner_loss_J",
+        "landing_loss_J",
+        "climb_assist_J",
         "cheapest",
     ]);
     let mut curves: [Vec<(f64, f64)>; 3] = Default::default();
@@ -358,13 +361,13 @@ fn write_maps(
     let masses = logspace(MASS_RANGE.0, MASS_RANGE.1, n);
     let speeds = logspace(SPEED_RANGE.0, SPEED_RANGE.1, n);
     let log10 = |v: &[f64]| v.iter().map(|x| x.log10()).collect::<Vec<_>>();
-    let json = args.output.json;
+    let hidden = args.output.hide_progress();
     for &ratio in &args.map_height_ratios {
         let tag = format!("{ratio:.2}").replace('.', "p");
         let cells = timed_map(
             &mut timings,
             format!("alpha_froude h/R={ratio}"),
-            common::bar(n * n, &format!("α × Fr, h/R = {ratio}"), json),
+            common::bar(n * n, &format!("α × Fr, h/R = {ratio}"), hidden),
             |bar| region_map_inertia_froude(ratio, &alphas, &map_froudes, bar),
         )?;
         out.csv(
@@ -384,7 +387,7 @@ fn write_maps(
         let cells = timed_map(
             &mut timings,
             format!("allometric h/R={ratio}"),
-            common::bar(n * n, &format!("mass × speed, h/R = {ratio}"), json),
+            common::bar(n * n, &format!("mass × speed, h/R = {ratio}"), hidden),
             |bar| region_map_allometric(ratio, &masses, &speeds, bar),
         )?;
         out.csv(

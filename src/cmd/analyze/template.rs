@@ -7,6 +7,7 @@ use hopsim_analysis::template::{
     self, sweep_case, CargoGrid, GridCell, Phase, SweepPoint, TemplateCase, TemplateParams,
     TemplateRun,
 };
+use hopsim_analysis::AnalysisError;
 use serde_json::json;
 use std::time::Instant;
 
@@ -90,7 +91,7 @@ pub struct TemplateArgs {
     /// Number of hops.
     #[arg(long)]
     pub hops: Option<usize>,
-    /// Hops averaged at the end of the run.
+    /// Hops averaged at the end of the run (1 … --hops).
     #[arg(long)]
     pub window: Option<usize>,
     /// Gravitational acceleration [m/s²].
@@ -126,6 +127,19 @@ fn apply_overrides(args: &TemplateArgs, mut p: TemplateParams) -> anyhow::Result
     p.window = args.window.unwrap_or(p.window);
     p.gravity = args.gravity.unwrap_or(p.gravity);
     p.convergence_tolerance = args.tolerance.unwrap_or(p.convergence_tolerance);
+    // `validate` blames `window` when hops < window; when only --hops was given, the
+    // number of hops is the value to fix.
+    if args.window.is_none() && p.hops < p.window {
+        return Err(AnalysisError::invalid(
+            "hops",
+            p.hops as f64,
+            &format!(
+                "must be at least the averaging window (`window` = {})",
+                p.window
+            ),
+        )
+        .into());
+    }
     p.validate()?;
     Ok(p)
 }
@@ -150,7 +164,7 @@ fn params_json(p: &TemplateParams) -> serde_json::Value {
         "mass_kg": p.mass,
         "inertia_kg_m2": p.inertia,
         "takeoff_angle_rad": p.takeoff_angle,
-        "energy_input_j": p.energy_input,
+        "energy_input_J": p.energy_input,
         "impulse_tilt_rad": p.impulse_tilt,
         "hops": p.hops,
         "window": p.window,
@@ -220,19 +234,22 @@ fn run_case(args: &TemplateArgs) -> anyhow::Result<()> {
             "cost_of_transport": s.map(|s| s.cost_of_transport),
             "dimensionless_speed": s.map(|s| s.dimensionless_speed),
             "froude_number": s.map(|s| s.froude_number),
-            "impulse_ns": s.map(|s| s.impulse_ns),
+            "impulse_Ns": s.map(|s| s.impulse_ns),
             "flight_time_s": s.map(|s| s.flight_time_s),
             "touchdown_angle_rad": s.map(|s| s.touchdown_angle_rad),
-            "touchdown_loss_j": s.map(|s| s.touchdown_loss_j),
+            "touchdown_loss_J": s.map(|s| s.touchdown_loss_j),
             "speed_spread": s.map(|s| s.speed_spread),
             "hops_completed": run.hops.len(),
             "no_gait_reason": run.no_gait.as_ref().map(|n| n.to_string()),
             "no_gait": run.no_gait,
-            "min_stance_normal_force_n": run.min_stance_normal_force_n,
+            "min_stance_normal_force_N": run.min_stance_normal_force_n,
             "warnings": warnings,
             "files": files,
         });
         return common::print_json(&value);
+    }
+    if args.output.quiet {
+        return Ok(());
     }
     let mut t = Table::new(format!(
         "template {} (physics.md §5.1; forward = +x)",
@@ -300,7 +317,7 @@ fn write_case_outputs(out: &mut OutDir, run: &TemplateRun) -> anyhow::Result<()>
         "vx_mps",
         "vy_mps",
         "omega_rad_s",
-        "energy_j",
+        "energy_J",
     ]);
     for s in &run.trajectory {
         let [x, y, phi] = s.state.q;
@@ -324,11 +341,11 @@ fn write_case_outputs(out: &mut OutDir, run: &TemplateRun) -> anyhow::Result<()>
         "takeoff_time_s",
         "takeoff_x_m",
         "takeoff_angular_velocity_rad_s",
-        "impulse_ns",
+        "impulse_Ns",
         "flight_time_s",
         "touchdown_angle_rad",
-        "touchdown_loss_j",
-        "touchdown_normal_percussion_ns",
+        "touchdown_loss_J",
+        "touchdown_normal_percussion_Ns",
         "stance_time_s",
         "stance_revolutions",
         "stride_m",
@@ -423,7 +440,7 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
         grid.leg_over_radius = hopsim_analysis::numerics::linspace(l / 5.8, l / 0.3, n);
     }
     let started = Instant::now();
-    let bar = common::bar(n * n, "Cargo grid", args.output.json);
+    let bar = common::bar(n * n, "Cargo grid", args.output.hide_progress());
     let cells = grid.run(&bar)?;
     let elapsed = started.elapsed().as_secs_f64();
     let converged: Vec<&GridCell> = cells.iter().filter(|c| c.converged().is_some()).collect();
@@ -531,6 +548,9 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
             "files": files,
         }));
     }
+    if args.output.quiet {
+        return Ok(());
+    }
     let mut t = Table::new(format!("Cargo template grid, {n} × {n} cells (l/R × φ_TO)"));
     t.row(
         "l/R range",
@@ -579,7 +599,7 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
     let mut results: Vec<(TemplateCase, TemplateParams, Vec<SweepPoint>)> = Vec::new();
     for &case in cases {
         let base = apply_overrides(args, case.params())?;
-        let bar = common::bar(ANGLES * n_energy, case.name(), args.output.json);
+        let bar = common::bar(ANGLES * n_energy, case.name(), args.output.hide_progress());
         let points = sweep_case(case, &base, ANGLES, n_energy, &bar)?;
         results.push((case, base, points));
     }
@@ -588,7 +608,7 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
         for (case, _, points) in &results {
             let mut csv = CsvTable::new(&[
                 "takeoff_angle_rad",
-                "energy_input_j",
+                "energy_input_J",
                 "gait",
                 "converged",
                 "mean_speed_mps",
@@ -667,7 +687,7 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
                         let s = p.summary.as_ref();
                         json!({
                             "takeoff_angle_rad": p.takeoff_angle,
-                            "energy_input_j": p.energy_input,
+                            "energy_input_J": p.energy_input,
                             "converged": s.is_some_and(|s| s.converged),
                             "mean_speed_mps": s.map(|s| s.mean_speed_mps),
                             "dimensionless_speed": s.map(|s| s.dimensionless_speed),
@@ -684,6 +704,9 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
             "sweeps": sweeps,
             "files": files,
         }));
+    }
+    if args.output.quiet {
+        return Ok(());
     }
     for (case, _, points) in &results {
         let gaits: Vec<_> = points.iter().filter_map(|p| p.summary.as_ref()).collect();
