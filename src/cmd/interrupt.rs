@@ -37,4 +37,8 @@ impl<O: Observer> Observer for StopOnSignal<O> {
         }
         self.0.on_step(view)
     }
+
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.0.on_start(view)
+    }
 }

@@ -26,11 +26,22 @@ pub struct StepView<'a> {
 pub trait Observer {
     /// Called after every step.
     fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError>;
+
+    /// Called once before the first step with the initial state (`record.step == 0`, no
+    /// contacts, no events); recorders record it as the first frame.
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        let _ = view;
+        Ok(())
+    }
 }
 
 impl<T: Observer + ?Sized> Observer for &mut T {
     fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
         (**self).on_step(view)
+    }
+
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        (**self).on_start(view)
     }
 }
 

@@ -84,9 +84,24 @@ impl Observer for RecordingObserver {
             self.recorders.event(ev)?;
         }
         let step = view.record.step;
-        if !step.is_multiple_of(self.every) && view.events.is_empty() && step != 1 {
+        if !step.is_multiple_of(self.every) && view.events.is_empty() {
             return Ok(());
         }
+        self.frame(view)
+    }
+
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        if self.recorders.is_empty() {
+            return Ok(());
+        }
+        self.frame(view)
+    }
+}
+
+impl RecordingObserver {
+    /// Records the frame of `view`.
+    fn frame(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        let step = view.record.step;
         let ws = view.kinematics;
         let model = view.model;
         self.bodies.clear();

@@ -199,16 +199,25 @@ impl<'s> Simulation<'s> {
             }
             None => {}
         }
-        let torque = self.actuation.torques.first().map_or(0.0, |t| t.torque);
-        observer.on_step(&StepView {
-            model,
+        observer.on_step(&self.view())
+    }
+
+    /// Shows the state before the first step to `observer` ([`Observer::on_start`]).
+    pub fn start(&self, observer: &mut dyn Observer) -> Result<(), RunError> {
+        observer.on_start(&self.view())
+    }
+
+    /// What observers see of the last step (or of the initial state before any).
+    fn view(&self) -> StepView<'_> {
+        StepView {
+            model: &self.scene.model,
             state: &self.state,
             kinematics: self.stepper.workspace(),
             record: self.stepper.record(),
             events: &self.events,
             shapes_active: &self.shapes_active,
-            torque,
-        })
+            torque: self.actuation.torques.first().map_or(0.0, |t| t.torque),
+        }
     }
 }
 
@@ -226,6 +235,7 @@ pub fn run(
     let started = Instant::now();
     let tick = (steps / 1000).max(1);
     let mut revealed = false;
+    sim.start(observer)?;
     for k in 0..steps {
         sim.step(&mut Tee(&mut summary, observer))?;
         if let Some(bar) = options.progress.as_ref().filter(|_| k % tick == 0) {

@@ -32,6 +32,15 @@ impl Observer for Both<'_> {
         self.truth.events.extend(v.events.iter().cloned());
         self.recorder.on_step(v)
     }
+
+    fn on_start(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        self.truth.states.push((
+            v.record.step,
+            v.state.q.as_slice().to_vec(),
+            v.state.u.as_slice().to_vec(),
+        ));
+        self.recorder.on_start(v)
+    }
 }
 
 #[test]
@@ -59,11 +68,31 @@ fn mcap_of_a_run_matches_the_simulation_records() {
 
     let rec = McapRecording::read(&file).unwrap();
     assert_eq!(rec.metadata.coordinates, scene.coordinates);
-    // At 1 kHz with Δt = 0.2 ms every 5th step is recorded, plus the first and every
+    // The initial state first, then at 1 kHz with Δt = 0.2 ms every 5th step, plus every
     // step with an event: each recorded state is the simulation's state at that step.
-    assert!(rec.states.len() >= 2000 && rec.states.len() < truth.states.len());
+    let first = &rec.states[0];
+    assert_eq!((first.step, first.t), (0, 0.0));
+    assert_eq!(first.q, scene.initial.q.as_slice());
+    let every_fifth = (0..=10_000u64).step_by(5).collect::<Vec<_>>();
+    let steps: std::collections::BTreeSet<u64> = rec.states.iter().map(|s| s.step).collect();
+    assert!(
+        every_fifth.iter().all(|k| steps.contains(k)),
+        "a 1 kHz frame is missing"
+    );
+    let event_steps = truth.events.iter().map(|e| e.step);
+    assert!(
+        event_steps.clone().all(|k| steps.contains(&k)),
+        "an event step is missing"
+    );
+    let extra = steps.iter().filter(|k| *k % 5 != 0).count();
+    assert!(
+        extra <= truth.events.len(),
+        "{extra} frames off the 1 kHz grid"
+    );
+    assert_eq!(steps.len(), rec.states.len(), "a step recorded twice");
     for s in &rec.states {
-        let (_, q, u) = &truth.states[s.step as usize - 1];
+        let (step, q, u) = &truth.states[s.step as usize];
+        assert_eq!(*step, s.step);
         assert_eq!((&s.q, &s.u), (q, u), "state at step {}", s.step);
     }
     // Contact percussions: the recording holds exactly the truth's at the recorded steps.
