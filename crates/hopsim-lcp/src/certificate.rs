@@ -2,13 +2,15 @@
 
 /// How well `(z, w)` satisfies `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`.
 ///
-/// `tolerance = rel_tol · max(‖q‖_∞, ‖M‖_∞ ‖z‖_∞)`: a backward-error style scale, so the
-/// test means the same for a contact LCP with `q ~ 1e-3` as for one with `q ~ 1e3`.
+/// All three measures are in the units of `w`, with `z` entering as `‖M‖_∞ z` (the change
+/// of `w` it can cause), and `tolerance = rel_tol · max(‖q‖_∞, ‖M‖_∞ ‖z‖_∞)`: a
+/// backward-error style scale, so the test means the same for a contact LCP with
+/// `q ~ 1e-3` as for one with `q ~ 1e3`, and for `(sM, q)` as for `(M, q)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Certificate {
-    /// `max_i |min(z_i, w_i)|`.
+    /// `max_i |min(‖M‖ z_i, w_i)|`.
     pub complementarity: f64,
-    /// `min(0, min_i z_i, min_i w_i)` (so always `≤ 0`).
+    /// `min(0, ‖M‖ min_i z_i, min_i w_i)` (so always `≤ 0`).
     pub most_negative: f64,
     /// `‖w − M z − q‖_∞`.
     pub residual: f64,
@@ -64,7 +66,10 @@ impl ProblemRef<'_> {
         let mut most_negative: f64 = 0.0;
         let mut residual: f64 = 0.0;
         let mut sum = 0.0;
+        // `z` in the units of `w` (a zero `M` leaves `z` as it is).
+        let z_unit = if self.m_norm > 0.0 { self.m_norm } else { 1.0 };
         for ((&zi, &wi), &ri) in z.iter().zip(w).zip(mz.iter()) {
+            let zi = z_unit * zi;
             let low = if zi < wi { zi } else { wi };
             let c = low.abs();
             complementarity = if c > complementarity {

@@ -481,13 +481,15 @@ pub(crate) fn extract(
     let (z, w) = (&mut z[..n], &mut w[..n]);
     z.fill(0.0);
     w.fill(0.0);
+    // The unscaled values: a finite tableau entry can still overflow when unscaled.
     let mut sum = 0.0;
     for (&x, &v) in t.tab[..n].iter().zip(&t.basis[..n]) {
-        sum += x;
         if v < n {
             w[v] = x * scales.w;
+            sum += w[v];
         } else if v < 2 * n {
             z[v - n] = x * scales.z;
+            sum += z[v - n];
         }
     }
     sum.is_finite()

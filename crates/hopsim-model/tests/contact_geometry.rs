@@ -304,3 +304,221 @@ proptest! {
         prop_assert!(clearance - gap < 2e-4, "gap {gap} vs sampled clearance {clearance}");
     }
 }
+
+/// World point of the arc `center + radius (cos t, sin t)` (body frame) at `pose`, and its
+/// derivative in `t`, transformed by hand.
+fn arc_point(center: Vec2, radius: f64, pose: [f64; 3], t: f64) -> (Vec2, Vec2) {
+    let local = center + radius * Vec2::new(t.cos(), t.sin());
+    let d_local = radius * Vec2::new(-t.sin(), t.cos());
+    (
+        Vec2::new(pose[0], pose[1]) + rotate(pose[2], local),
+        rotate(pose[2], d_local),
+    )
+}
+
+/// Minimum of `f` over the arc parameter `[start, end]` by dense sampling, refined by
+/// bisection on the sign of `df` in the bracket around the best sample; `(t, interior)`
+/// where `interior` says the minimum is not at an end of the arc.
+fn arc_minimum(
+    start: f64,
+    end: f64,
+    f: impl Fn(f64) -> f64,
+    df: impl Fn(f64) -> f64,
+) -> (f64, bool) {
+    let samples = 20_000;
+    let ts: Vec<f64> = (0..=samples)
+        .map(|k| start + (end - start) * k as f64 / samples as f64)
+        .collect();
+    let best = (0..=samples)
+        .min_by(|&a, &b| f(ts[a]).total_cmp(&f(ts[b])))
+        .unwrap();
+    if best == 0 || best == samples {
+        return (ts[best], false);
+    }
+    let (mut lo, mut hi) = (ts[best - 1], ts[best + 1]);
+    if df(lo) > 0.0 || df(hi) < 0.0 {
+        // No sign change of the derivative in the bracket: a sampled end effect.
+        return (ts[best], false);
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if df(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (0.5 * (lo + hi), true)
+}
+
+/// The geometry of `m`'s candidates at `pose` by feature: `(terrain index, shape feature,
+/// geometry)` of every reported contact.
+fn reported(m: &Model, pose: [f64; 3]) -> Vec<(usize, ShapeFeature, ContactGeometry)> {
+    let ws = workspace(m, pose);
+    (0..m.contacts.len())
+        .filter_map(|i| {
+            m.contact_geometry(&ws, i)
+                .map(|g| (m.contacts[i].terrain, m.contacts[i].feature, g))
+        })
+        .collect()
+}
+
+use hopsim_model::{ContactGeometry, ShapeFeature};
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    /// A circular arc above flat ground: where the body-frame direction `−n` falls inside
+    /// the arc, its smooth contact's gap and point are the lowest point of the densely
+    /// sampled arc (refined by bisection on `dy/dt`); where it falls outside, there is no
+    /// smooth contact, and the arc's ends (vertices) give the lowest points, transformed
+    /// by hand.
+    #[test]
+    fn arc_above_flat_ground(
+        cx in -0.1..0.1f64, cy in -0.1..0.1f64, radius in 0.05..0.3f64,
+        start in -4.0..2.0f64, span in 0.2..3.0f64,
+        x in -1.0..1.0f64, y in 0.35..0.6f64, phi in -4.0..4.0f64,
+    ) {
+        let center = Vec2::new(cx, cy);
+        let end = start + span;
+        let pose = [x, y, phi];
+        let shape = Shape::Arc { center, radius, start, end };
+        let m = model(shape, Terrain::flat(0.0));
+        let got = reported(&m, pose);
+        let (t, interior) = arc_minimum(
+            start, end,
+            |t| arc_point(center, radius, pose, t).0.y,
+            |t| arc_point(center, radius, pose, t).1.y,
+        );
+        // The full circle's lowest point at the body-frame angle −π/2 − φ, as an arc offset.
+        let offset = (-std::f64::consts::FRAC_PI_2 - phi - start).rem_euclid(std::f64::consts::TAU);
+        let margin = 1e-6;
+        let smooth: Vec<_> = got.iter().filter(|c| c.1 == ShapeFeature::Smooth).collect();
+        if interior && offset > margin && offset < span - margin {
+            prop_assert_eq!(smooth.len(), 1, "{:?}", got);
+            let (p, _) = arc_point(center, radius, pose, t);
+            let g = smooth[0].2;
+            prop_assert!((g.gap - p.y).abs() < 1e-12, "gap {} vs sampled {}", g.gap, p.y);
+            prop_assert!((g.point - p).norm() < 1e-9, "point {} vs sampled {}", g.point, p);
+            prop_assert_eq!(g.normal, Vec2::new(0.0, 1.0));
+        } else if offset > span + margin && offset < std::f64::consts::TAU - margin {
+            // Beyond the arc's range: the smooth boundary must not touch.
+            prop_assert!(smooth.is_empty(), "smooth contact outside the arc: {:?}", got);
+        }
+        // The vertices: the arc's ends transformed by hand.
+        for (k, a) in [start, end].into_iter().enumerate() {
+            let (p, _) = arc_point(center, radius, pose, a);
+            let v: Vec<_> = got.iter().filter(|c| c.1 == ShapeFeature::Vertex(k)).collect();
+            prop_assert_eq!(v.len(), 1);
+            prop_assert!((v[0].2.gap - p.y).abs() < 1e-12);
+            prop_assert!((v[0].2.point - p).norm() < 1e-12);
+        }
+        // Together: the smallest gap is the clearance of the sampled arc.
+        let clearance = arc_point(center, radius, pose, t).0.y;
+        let gap = got.iter().map(|c| c.2.gap).fold(f64::INFINITY, f64::min);
+        prop_assert!((gap - clearance).abs() < 1e-12, "gap {} vs clearance {}", gap, clearance);
+    }
+
+    /// A circular arc near a step's corner: where the point of the arc closest to the
+    /// corner (dense sampling of the distance, bisection on its derivative) is interior to
+    /// the arc and its normal lies in the corner's cone (up to left), the corner contact's
+    /// gap is that distance (negative when the corner is inside the circle) and its point
+    /// that arc point; where the circle's closest point lies beyond the arc's range, no
+    /// corner contact is reported.
+    #[test]
+    fn arc_near_a_step_corner(
+        cx in -0.05..0.05f64, cy in -0.05..0.05f64, radius in 0.05..0.2f64,
+        start in -4.0..2.0f64, span in 0.2..3.0f64,
+        dx in -0.3..0.1f64, dy in -0.1..0.3f64, phi in -4.0..4.0f64,
+    ) {
+        let (face, height) = (0.2, 0.1);
+        let corner = Vec2::new(face, height);
+        let center = Vec2::new(cx, cy);
+        let end = start + span;
+        let pose = [face + dx, height + dy, phi];
+        let m = model(Shape::Arc { center, radius, start, end }, Terrain::step(face, height));
+        let got = reported(&m, pose);
+        let at_corner: Vec<_> = got.iter().filter(|c| c.0 == 3).collect();
+        let c_world = Vec2::new(pose[0], pose[1]) + rotate(phi, center);
+        let dist = (c_world - corner).norm();
+        prop_assume!(dist > 1e-3 && (dist - radius).abs() > 1e-6);
+        let inside = dist < radius;
+        // The arc point nearest the corner (also when the corner is inside the circle).
+        let (t, interior) = arc_minimum(
+            start, end,
+            |t| (arc_point(center, radius, pose, t).0 - corner).norm(),
+            |t| {
+                let (p, dp) = arc_point(center, radius, pose, t);
+                (p - corner).dot(&dp)
+            },
+        );
+        // Terrain-to-body normal: (centre − corner)/|centre − corner| (the contact point
+        // c − R n is the circle point nearest the corner, inside or outside).
+        let n = (c_world - corner) / dist;
+        let in_cone = n.x <= -1e-6 && n.y >= 1e-6;
+        // Body-frame angle of the circle point closest to the corner, as an arc offset.
+        let local = rotate(-phi, -n);
+        let offset = (local.y.atan2(local.x) - start).rem_euclid(std::f64::consts::TAU);
+        let margin = 1e-6;
+        if in_cone && offset > margin && offset < span - margin {
+            prop_assert!(interior);
+            prop_assert_eq!(at_corner.len(), 1, "{:?}", got);
+            let (p, _) = arc_point(center, radius, pose, t);
+            let d = (p - corner).norm();
+            let reference = if inside { -d } else { d };
+            let g = at_corner[0].2;
+            prop_assert!((g.gap - reference).abs() < 1e-12, "gap {} vs sampled {}", g.gap, reference);
+            prop_assert!((g.point - p).norm() < 1e-9, "point {} vs sampled {}", g.point, p);
+            prop_assert!((g.normal - n).norm() < 1e-12);
+        } else if offset > span + margin && offset < std::f64::consts::TAU - margin {
+            prop_assert!(at_corner.is_empty(), "corner contact off the arc: {:?}", got);
+        } else if !in_cone && (n.x > 1e-6 || n.y < -1e-6) {
+            prop_assert!(at_corner.is_empty(), "corner contact outside the cone: {:?}", got);
+        }
+    }
+
+    /// A point shape at random poses above flat ground and around a step: its world
+    /// position, transformed by hand, is the contact point, and the gaps are its heights
+    /// above the ground and the step's top and its distance from the face, each reported
+    /// only where the point lies over that line's extent.
+    #[test]
+    fn point_above_flat_ground_and_a_step(
+        px in -0.2..0.2f64, py in -0.2..0.2f64,
+        x in -0.5..0.5f64, y in 0.25..0.6f64, phi in -4.0..4.0f64,
+    ) {
+        let position = Vec2::new(px, py);
+        let pose = [x, y, phi];
+        let p = Vec2::new(x, y) + rotate(phi, position);
+        let m = model(Shape::Point { position }, Terrain::flat(0.0));
+        let got = reported(&m, pose);
+        prop_assert_eq!(got.len(), 1);
+        prop_assert_eq!(got[0].1, ShapeFeature::Vertex(0));
+        prop_assert!((got[0].2.gap - p.y).abs() < 1e-15);
+        prop_assert!((got[0].2.point - p).norm() < 1e-15);
+        prop_assert_eq!(got[0].2.normal, Vec2::new(0.0, 1.0));
+
+        // Step: face at x = 0, top at y = 0.2 (the point lies in the open region).
+        let (face, height) = (0.0, 0.2);
+        prop_assume!(p.x < face || p.y > height);
+        prop_assume!((p.x - face).abs() > 1e-9 && (p.y - height).abs() > 1e-9);
+        let m = model(Shape::Point { position }, Terrain::step(face, height));
+        let got = reported(&m, pose);
+        let mut expected: Vec<(usize, f64)> = Vec::new();
+        if p.x < face {
+            expected.push((0, p.y));
+            if p.y <= height {
+                expected.push((1, face - p.x));
+            }
+        } else {
+            expected.push((2, p.y - height));
+        }
+        let mut seen: Vec<(usize, f64)> = got.iter().map(|c| (c.0, c.2.gap)).collect();
+        seen.sort_by_key(|c| c.0);
+        prop_assert_eq!(seen.len(), expected.len(), "{:?} vs {:?}", seen, expected);
+        for ((t, gap), (te, ge)) in seen.iter().zip(&expected) {
+            prop_assert_eq!(t, te);
+            prop_assert!((gap - ge).abs() < 1e-15, "terrain {}: gap {} vs {}", t, gap, ge);
+        }
+        prop_assert!(got.iter().all(|c| (c.2.point - p).norm() < 1e-15));
+    }
+}
