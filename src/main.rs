@@ -26,7 +26,7 @@ enum Command {
     Scene(cmd::scene::SceneCommandArgs),
     /// Linear complementarity problems: solve `.dat` files with Lemke's method.
     Lcp(cmd::lcp::LcpArgs),
-    /// Reduced models of the thesis: template, obstacle, impulsive wheel (docs/analysis.md).
+    /// Reduced models and analyses: template, obstacle, impulsive wheel, Robbit fixed points (docs/analysis.md).
     Analyze(cmd::analyze::AnalyzeArgs),
     /// Compare two recordings' contact-impulse traces; non-zero exit where they differ.
     Compare(cmd::compare::CompareArgs),

@@ -13,7 +13,7 @@ use super::exit;
 pub struct SceneArgs {
     /// The scene file (TOML), e.g. scenes/robbit.toml (format: docs/scene-format.md).
     pub scene: PathBuf,
-    /// Override any scalar scene key, e.g. --set controller.torque=0.2 (repeatable).
+    /// Override any scene value (a number, string, bool or array), e.g. --set controller.torque=0.2 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<Override>,
 }
