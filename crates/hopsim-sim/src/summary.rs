@@ -311,12 +311,13 @@ fn shown(x: f64) -> f64 {
     }
 }
 
-/// `value` in `unit` per metre, or a dash where the robot made no forward distance.
-fn per_metre(value: f64, unit: &str) -> String {
+/// `value` in `unit` per metre (the number right-aligned in `width`), or a dash where the
+/// robot made no forward distance.
+fn per_metre(value: f64, unit: &str, width: usize) -> String {
     if value.is_finite() {
-        format!("{value:.4} {unit}/m")
+        format!("{value:>width$.4} {unit}/m")
     } else {
-        "– (no forward distance)".into()
+        format!("{:>width$} (no forward distance)", "–")
     }
 }
 
@@ -351,7 +352,7 @@ impl std::fmt::Display for Summary {
                 "  actuator impulses  {:>10} totalling {:.4} {unit} ({})",
                 self.impulses.count,
                 self.impulses.total_ns,
-                per_metre(self.impulse_per_distance, unit)
+                per_metre(self.impulse_per_distance, unit, 0)
             )?;
         }
         if let Some(r) = &self.robbit {
@@ -362,15 +363,15 @@ impl std::fmt::Display for Summary {
             )?;
             writeln!(
                 f,
-                "  impulse/distance   {:>10} (last {w:.2} s)",
-                per_metre(r.impulse_per_distance, unit)
+                "  impulse/distance   {} (last {w:.2} s)",
+                per_metre(r.impulse_per_distance, unit, 10)
             )?;
             for c in &r.cube_baseline {
                 writeln!(
                     f,
-                    "  cube, ε = {:<4}     {:>10} at the same speed",
+                    "  cube, ε = {:<4}     {} at the same speed",
                     c.restitution,
-                    per_metre(c.impulse_per_distance, unit)
+                    per_metre(c.impulse_per_distance, unit, 10)
                 )?;
             }
             if r.cube_baseline.is_empty() {
