@@ -29,14 +29,7 @@ fn single_body(mass: f64, inertia: f64, shape: Shape, terrain: Terrain, friction
 }
 
 fn stepper(model: &Model, dt: f64) -> Stepper {
-    Stepper::new(
-        model,
-        StepSettings {
-            dt,
-            strict: true,
-            ..StepSettings::default()
-        },
-    )
+    Stepper::new(model, StepSettings::strict(dt))
 }
 
 /// (a) The template (§5.1) in the time-stepper: an eccentric disc with no-slip friction

@@ -22,6 +22,17 @@ pub struct StepSettings {
     pub lcp: LemkeOptions,
 }
 
+impl StepSettings {
+    /// Defaults with step size `dt` that stop on the first uncertified LCP.
+    pub fn strict(dt: f64) -> Self {
+        Self {
+            dt,
+            strict: true,
+            ..Self::default()
+        }
+    }
+}
+
 impl Default for StepSettings {
     fn default() -> Self {
         Self {

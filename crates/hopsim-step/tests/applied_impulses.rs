@@ -36,6 +36,27 @@ fn step(model: &Model, start: &State, act: &Actuation, dt: f64) -> State {
 
 /// Asserts `u^E = u^A + expected_du` entrywise to `1e-12`, and `q^E = q^A + Δt/2 (u^A +
 /// u^E)` (the midpoint rule); returns the largest velocity error.
+/// Steps `start` once per case with that case's impulses and checks the velocity change;
+/// the worst error.
+fn worst_of_cases<const N: usize>(
+    model: &Model,
+    start: &State,
+    dt: f64,
+    case: usize,
+    cases: [(&str, Vec<ImpulseCommand>, Vec<f64>); N],
+) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (name, impulses, du) in cases {
+        let act = Actuation {
+            impulses,
+            ..Actuation::default()
+        };
+        let end = step(model, start, &act, dt);
+        worst = worst.max(check(start, &end, &du, dt, &format!("case {case} {name}")));
+    }
+    worst
+}
+
 fn check(start: &State, end: &State, expected_du: &[f64], dt: f64, what: &str) -> f64 {
     let mut worst: f64 = 0.0;
     for (i, du) in expected_du.iter().enumerate() {
@@ -112,14 +133,8 @@ fn single_body_point_and_rotational_impulses() {
                 [zeta.x / m, g + zeta.y / m, (cross(r, zeta) + tau) / inertia],
             ),
         ];
-        for (name, impulses, du) in cases {
-            let act = Actuation {
-                impulses,
-                ..Actuation::default()
-            };
-            let end = step(&model, &start, &act, dt);
-            worst = worst.max(check(&start, &end, &du, dt, &format!("case {case} {name}")));
-        }
+        let cases = cases.map(|(name, impulses, du)| (name, impulses, du.to_vec()));
+        worst = worst.max(worst_of_cases(&model, &start, dt, case, cases));
     }
     println!("single body: worst velocity error {worst:e}");
 }
@@ -196,14 +211,8 @@ fn robbit_flywheel_and_disc_impulses() {
                 [zeta.x / m, g + zeta.y / m, cross(r, zeta) / i_s, 0.0],
             ),
         ];
-        for (name, impulse, du) in cases {
-            let act = Actuation {
-                impulses: vec![impulse],
-                ..Actuation::default()
-            };
-            let end = step(&model, &start, &act, dt);
-            worst = worst.max(check(&start, &end, &du, dt, &format!("case {case} {name}")));
-        }
+        let cases = cases.map(|(name, impulse, du)| (name, vec![impulse], du.to_vec()));
+        worst = worst.max(worst_of_cases(&model, &start, dt, case, cases));
     }
     println!("Robbit: worst velocity error {worst:e}");
 }

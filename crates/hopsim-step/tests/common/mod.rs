@@ -78,14 +78,7 @@ pub fn motor(torque: f64) -> TorqueCommand {
 }
 
 pub fn stepper(model: &Model, dt: f64) -> Stepper {
-    Stepper::new(
-        model,
-        StepSettings {
-            dt,
-            strict: true,
-            ..StepSettings::default()
-        },
-    )
+    Stepper::new(model, StepSettings::strict(dt))
 }
 
 pub fn state(q: &[f64], u: &[f64]) -> State {
