@@ -172,14 +172,7 @@ pub fn simulate(
             model.dof()
         )));
     }
-    let mut stepper = Stepper::new(
-        &model,
-        StepSettings {
-            dt: settings.dt,
-            strict: true,
-            ..StepSettings::default()
-        },
-    );
+    let mut stepper = Stepper::new(&model, StepSettings::strict(settings.dt));
     let mut controller = MomentumImpulse::new(
         MomentumImpulseConfig {
             flywheel: FLYWHEEL,
