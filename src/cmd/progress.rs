@@ -30,7 +30,7 @@ pub fn count_bar(len: u64, unit: &str, quiet: bool) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(len), target);
     bar.set_style(
         ProgressStyle::with_template(&format!(
-            "[{{bar:40}}] {{pos}}/{{len}} {unit}, {{elapsed_precise}} elapsed, eta {{eta}}"
+            "{{msg}} [{{bar:40}}] {{pos}}/{{len}} {unit}, {{elapsed_precise}} elapsed, eta {{eta}}"
         ))
         .expect("valid template")
         .progress_chars("=> "),

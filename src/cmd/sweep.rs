@@ -3,11 +3,11 @@
 
 use anyhow::Context;
 use clap::Args;
-use hopsim_analysis::output::{create_dir, Cell, CsvTable};
-use hopsim_analysis::plot::{write_png_and_svg, LinePlot, RGBColor, Series, SeriesStyle, BLACK};
 use hopsim_control::ControllerConfig;
+use hopsim_io::{create_dir, Cell, CsvTable};
 use hopsim_scene::{Override, Scene};
 use hopsim_sim::{grid_jobs, CubeBaseline, GridAxis, Summary, SweepJob, SweepPoint};
+use hopsim_studies::plot::{write_png_and_svg, LinePlot, RGBColor, Series, SeriesStyle, BLACK};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use hopsim_analysis::fixed_points::{
     find_fixed_point, FixedPointGrid, SolverSettings, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE,
 };
-use hopsim_analysis::progress::hidden_bar;
+use hopsim_analysis::grid::NO_PROGRESS;
 use hopsim_analysis::robbit::{return_map, Control, RobbitParams, SectionState};
 use std::hint::black_box;
 
@@ -33,7 +33,7 @@ fn fixed_points(c: &mut Criterion) {
     group.sample_size(10);
     let grid = FixedPointGrid::new(p, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE, 10, 10);
     group.bench_function("10 x 10 default grid, all cores", |b| {
-        b.iter(|| grid.run(&hidden_bar()).unwrap())
+        b.iter(|| grid.run(NO_PROGRESS).unwrap())
     });
     group.finish();
 }

@@ -1,6 +1,4 @@
-//! Errors of the analyses: invalid parameters, singular impact problems, output failures.
-
-use std::path::PathBuf;
+//! Errors of the analyses: invalid parameters, singular impact problems.
 
 /// Everything that can go wrong in `hopsim-analysis`. Libraries never panic on user input:
 /// bad parameters come back as [`AnalysisError::InvalidParameter`].
@@ -26,26 +24,6 @@ pub enum AnalysisError {
     /// Matrix or vector dimensions do not fit together.
     #[error("dimension mismatch: {0}")]
     Dimension(String),
-    /// Writing an output file failed.
-    #[error("cannot write {path}: {source}")]
-    Io {
-        /// The file being written.
-        path: PathBuf,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
-    },
-    /// A time-stepper run (a cross-check of a reduced model) failed.
-    #[error("time-stepper: {0}")]
-    Stepper(String),
-    /// Drawing a plot failed (e.g. no usable font on the machine).
-    #[error("cannot draw {path}: {message}")]
-    Plot {
-        /// The figure being drawn.
-        path: PathBuf,
-        /// The backend's message.
-        message: String,
-    },
 }
 
 /// Result alias of this crate.

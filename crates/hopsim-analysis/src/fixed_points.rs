@@ -10,9 +10,9 @@
 //! true); stable iff all `|λ| < 1` [5.18]. docs/analysis.md §9.7–9.9.
 
 use crate::error::{AnalysisError, Result};
+use crate::grid::{par_map, Progress};
 use crate::numerics::{eigenvalues_2x2, levenberg_marquardt, linspace, Complex, LmSettings};
 use crate::robbit::{cycle, return_map, Control, Cycle, NoCycle, RobbitParams, SectionState};
-use indicatif::ProgressBar;
 use serde::Serialize;
 use std::fmt;
 
@@ -411,9 +411,9 @@ impl FixedPointGrid {
         Ok(out)
     }
 
-    /// Solves every point in parallel (rayon), advancing `bar` per point; row-major order
+    /// Solves every point in parallel (rayon), calling `progress` per point; row-major order
     /// (`E_TO` outer, `φ_TO` inner).
-    pub fn run(&self, bar: &ProgressBar) -> Result<Vec<GridPoint>> {
+    pub fn run(&self, progress: Progress<'_>) -> Result<Vec<GridPoint>> {
         self.params.validate()?;
         if self.angles.is_empty() || self.energies.is_empty() {
             return Err(AnalysisError::invalid(
@@ -423,7 +423,7 @@ impl FixedPointGrid {
             ));
         }
         let states = self.states()?;
-        let results = crate::progress::par_map_progress(&states, bar, |(angle, energy, z)| {
+        let results = par_map(&states, progress, |(angle, energy, z)| {
             let outcome = find_fixed_point(&self.params, z, &self.settings);
             let (fixed_point, no_fixed_point) = match outcome {
                 Ok(Ok(fp)) => (Some(fp), None),

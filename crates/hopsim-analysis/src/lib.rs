@@ -6,25 +6,22 @@
 //! * [`impulsive_wheel`]: the take-off-angle return map of the impulsive wheel (§5.5).
 //! * [`robbit`]: Robbit's hopping cycle as a return map on the section before the brake
 //!   (§5.3); [`fixed_points`]: its fixed-point controls `β* = (T*, ζ0*)` and their stability
-//!   over a take-off angle × energy grid; [`robbit_stepper`]: the same robot in the
-//!   time-stepper, to cross-check a predicted gait.
-//! * [`plot`]: line plots, heatmaps and category maps as PNG + SVG.
-//! * [`output`]: atomic file writes and CSV tables; [`progress`]: parallel grids with a
-//!   progress bar; [`numerics`]: root finding, minimisation, Dormand–Prince.
+//!   over a take-off angle × energy grid.
+//! * [`grid`]: parallel grids reporting progress through a callback; [`numerics`]: root
+//!   finding, minimisation, Dormand–Prince.
 //!
+//! Pure theory: no time-stepper, no plotting, no progress display (the studies of
+//! `hopsim-studies` cross-check these models against the time-stepper and draw them).
 //! `docs/analysis.md` documents every equation, derivation and sign convention.
 
 pub mod error;
 pub mod fixed_points;
+pub mod grid;
 pub mod impact;
 pub mod impulsive_wheel;
 pub mod numerics;
 pub mod obstacle;
-pub mod output;
-pub mod plot;
-pub mod progress;
 pub mod robbit;
-pub mod robbit_stepper;
 pub mod template;
 
 pub use error::{AnalysisError, Result};

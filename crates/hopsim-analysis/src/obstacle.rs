@@ -30,10 +30,10 @@
 //! in `docs/analysis.md`.
 
 use crate::error::{require_positive, AnalysisError, Result};
+use crate::grid::{par_map, Progress};
 use crate::impact;
 use crate::numerics::{first_sign_change, golden_section_minimum, linspace};
 use crate::STANDARD_GRAVITY;
-use indicatif::ProgressBar;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -702,13 +702,13 @@ pub fn region_map_inertia_froude(
     height_ratio: f64,
     inertia_factors: &[f64],
     froudes: &[f64],
-    bar: &ProgressBar,
+    progress: Progress<'_>,
 ) -> Result<Vec<RegionCell>> {
     region_map(
         height_ratio,
         ("inertia-factor", inertia_factors),
         ("froude", froudes),
-        bar,
+        progress,
         |alpha, fr| {
             let wheel = Wheel::dimensionless(alpha);
             region_cell(&wheel, wheel.speed_from_froude(fr), height_ratio, alpha, fr)
@@ -722,13 +722,13 @@ pub fn region_map_allometric(
     height_ratio: f64,
     masses: &[f64],
     speeds: &[f64],
-    bar: &ProgressBar,
+    progress: Progress<'_>,
 ) -> Result<Vec<RegionCell>> {
     region_map(
         height_ratio,
         ("mass", masses),
         ("speed", speeds),
-        bar,
+        progress,
         |mass, speed| {
             let wheel = Wheel::allometric(mass);
             region_cell(&wheel, speed, height_ratio * wheel.radius, mass, speed)
@@ -743,7 +743,7 @@ fn region_map(
     height_ratio: f64,
     (x_name, xs): (&str, &[f64]),
     (y_name, ys): (&str, &[f64]),
-    bar: &ProgressBar,
+    progress: Progress<'_>,
     cell: impl Fn(f64, f64) -> Result<RegionCell> + Sync,
 ) -> Result<Vec<RegionCell>> {
     let mut points = Vec::with_capacity(xs.len() * ys.len());
@@ -755,7 +755,7 @@ fn region_map(
         }
     }
     validate_case(&Wheel::dimensionless(1.0), 1.0, height_ratio)?;
-    crate::progress::par_map_progress(&points, bar, |&(x, y)| cell(x, y))
+    par_map(&points, progress, |&(x, y)| cell(x, y))
         .into_iter()
         .collect()
 }

@@ -21,10 +21,10 @@
 //! `+x`. A take-off is triggered when `φ` passes `φ_TO` (modulo `2π`) while decreasing.
 
 use crate::error::{require_finite, require_positive, AnalysisError, Result};
+use crate::grid::{par_map, Progress};
 use crate::impact;
 use crate::numerics::{brent, dormand_prince_step, error_norm, first_sign_change, linspace, sinc};
 use crate::STANDARD_GRAVITY;
-use indicatif::ProgressBar;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -1021,9 +1021,9 @@ impl CargoGrid {
         out
     }
 
-    /// Runs every cell in parallel (rayon), advancing `bar` per cell. Cells are returned in
+    /// Runs every cell in parallel (rayon), calling `progress` per cell. Cells are returned in
     /// row-major order (`φ_TO` outer, `l/R` inner).
-    pub fn run(&self, bar: &ProgressBar) -> Result<Vec<GridCell>> {
+    pub fn run(&self, progress: Progress<'_>) -> Result<Vec<GridCell>> {
         self.base.validate()?;
         for &ratio in &self.leg_over_radius {
             if !(ratio.is_finite() && ratio > 0.0 && ratio < 2.0) {
@@ -1031,7 +1031,7 @@ impl CargoGrid {
             }
         }
         let cells = self.cells();
-        let results = crate::progress::par_map_progress(&cells, bar, |params| {
+        let results = par_map(&cells, progress, |params| {
             let run = simulate(params, false);
             let (summary, no_gait) = match run {
                 Ok(run) => (run.summary, run.no_gait.map(|n| n.to_string())),
@@ -1070,7 +1070,7 @@ pub fn sweep_case(
     base: &TemplateParams,
     n_angles: usize,
     n_energies: usize,
-    bar: &ProgressBar,
+    progress: Progress<'_>,
 ) -> Result<Vec<SweepPoint>> {
     base.validate()?;
     let ranges = case.ranges();
@@ -1084,7 +1084,7 @@ pub fn sweep_case(
             });
         }
     }
-    Ok(crate::progress::par_map_progress(&params, bar, |p| {
+    Ok(par_map(&params, progress, |p| {
         let (summary, no_gait) = match simulate(p, false) {
             Ok(run) => (run.summary, run.no_gait.map(|n| n.to_string())),
             Err(err) => (None, Some(err.to_string())),

@@ -3,6 +3,7 @@
 use crate::frame::FrameLayout;
 use crate::geometry::CoordinateUnit;
 use crate::{AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo};
+use hopsim_io::csv_field;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -33,15 +34,6 @@ pub(crate) fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     columns
 }
 
-/// `field` quoted if it holds a comma, quote or line break (RFC 4180).
-fn quoted(field: &str) -> std::borrow::Cow<'_, str> {
-    if field.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", field.replace('"', "\"\"")).into()
-    } else {
-        field.into()
-    }
-}
-
 impl CsvRecorder {
     /// The events file of a frames file: `run.csv` → `run.events.csv`.
     pub fn events_path(path: &Path) -> PathBuf {
@@ -56,7 +48,7 @@ impl CsvRecorder {
         let mut events = AtomicFile::create(&events_path)?;
         let header: Vec<_> = frame_columns(info)
             .iter()
-            .map(|c| quoted(c).into_owned())
+            .map(|c| csv_field(c).into_owned())
             .collect();
         writeln!(frames, "{}", header.join(",")).map_err(|e| RecordError::io(path, e))?;
         writeln!(events, "t_s,step,kind,details").map_err(|e| RecordError::io(&events_path, e))?;
@@ -101,7 +93,7 @@ impl Recorder for CsvRecorder {
             event.t,
             event.step,
             event.kind.name(),
-            quoted(&details)
+            csv_field(&details)
         )
         .map_err(|e| RecordError::io(self.events.path(), e))
     }
@@ -109,6 +101,6 @@ impl Recorder for CsvRecorder {
     fn finish(self: Box<Self>) -> Result<(), RecordError> {
         // The events first: the frames file appearing means both are complete.
         self.events.commit()?;
-        self.frames.commit()
+        Ok(self.frames.commit()?)
     }
 }

@@ -5,7 +5,6 @@
 //! The crate also reads its MCAP recordings back ([`McapRecording`]) and compares two
 //! recordings or impulse traces ([`compare_files`], used by `hopsim compare`).
 
-mod atomic;
 mod compare;
 mod csv;
 mod frame;
@@ -15,7 +14,6 @@ mod mcap_read;
 mod mcap_write;
 mod rerun_sink;
 
-pub use atomic::{write_atomically, AtomicFile};
 pub use compare::{
     compare_files, compare_states, CompareOptions, Comparison, StateDifference, StateMismatch,
 };
@@ -23,6 +21,7 @@ pub use csv::CsvRecorder;
 pub use frame::{
     BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecordingInfo,
 };
+pub use hopsim_io::{write_atomically, AtomicFile};
 pub use mcap_format::{CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC};
 pub use mcap_read::{
     McapRecording, RecordingMetadata, SceneAttachment, StateSample, BRAKE_CHANNEL,
@@ -49,6 +48,12 @@ pub enum RecordError {
     /// The live Rerun viewer could not be started.
     #[error("{0}")]
     Viewer(String),
+}
+
+impl From<hopsim_io::IoError> for RecordError {
+    fn from(e: hopsim_io::IoError) -> Self {
+        Self::io(&e.path, e.source)
+    }
 }
 
 impl RecordError {

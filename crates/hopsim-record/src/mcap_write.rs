@@ -156,6 +156,6 @@ impl Recorder for McapRecorder {
             mut writer, path, ..
         } = self.out;
         writer.finish().map_err(|e| RecordError::format(&path, e))?;
-        writer.into_inner().commit()
+        Ok(writer.into_inner().commit()?)
     }
 }

@@ -2,10 +2,10 @@
 //! robot drawn in 2D and time series of its state, energies and contact impulses
 //! (entities and timelines in docs/recording.md).
 
-use crate::atomic::temporary_file_for;
 use crate::frame::FrameLayout;
 use crate::geometry::{terrain_pieces, to_world, Outline, Point};
 use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo};
+use hopsim_io::AtomicPath;
 use hopsim_model::Terrain;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, TextLogView, TimePanel, TimeSeriesView,
@@ -17,7 +17,6 @@ use rerun::{
 };
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use tempfile::TempPath;
 
 /// How to get the Rerun viewer that matches the SDK hopsim is built with.
 pub const RERUN_VIEWER_INSTALL: &str = "pip install rerun-sdk==0.36.3";
@@ -52,32 +51,22 @@ const INACTIVE_COLOR: [u8; 3] = [170, 170, 170];
 pub struct RerunRecorder {
     /// Declared first so that it is dropped (and its file closed) before `output`.
     stream: RecordingStream,
-    output: Option<RrdOutput>,
+    output: Option<AtomicPath>,
     drawing: Drawing,
     layout: FrameLayout,
     /// Where errors point: the `.rrd` path or "Rerun viewer".
     target: PathBuf,
 }
 
-/// The temporary `.rrd` file and its final path.
-struct RrdOutput {
-    temp: TempPath,
-    path: PathBuf,
-}
-
 impl RerunRecorder {
     /// Records to the `.rrd` file `path`, written under a temporary name and renamed into
     /// place by `finish`.
     pub fn save(path: &Path, info: &RecordingInfo) -> Result<Self, RecordError> {
-        let temp = temporary_file_for(path)?.into_temp_path();
+        let output = AtomicPath::create(path)?;
         let stream = builder(info)
-            .save(temp.to_path_buf())
+            .save(output.temporary())
             .map_err(|e| RecordError::format(path, e))?;
-        let output = Some(RrdOutput {
-            temp,
-            path: path.to_path_buf(),
-        });
-        Self::start(stream, output, path.to_path_buf(), info)
+        Self::start(stream, Some(output), path.to_path_buf(), info)
     }
 
     /// Streams to a live Rerun viewer, started from the `rerun` executable on `PATH` (or
@@ -100,7 +89,7 @@ impl RerunRecorder {
 
     fn start(
         stream: RecordingStream,
-        output: Option<RrdOutput>,
+        output: Option<AtomicPath>,
         target: PathBuf,
         info: &RecordingInfo,
     ) -> Result<Self, RecordError> {
@@ -597,13 +586,12 @@ impl Recorder for RerunRecorder {
         } = *self;
         let err = |e: &dyn std::fmt::Display| RecordError::format(&target, e);
         match output {
-            Some(RrdOutput { temp, path }) => {
+            Some(output) => {
                 stream.flush_blocking().map_err(|e| err(&e))?;
                 // Closes the file sink, which writes the RRD footer.
                 stream.disconnect();
                 drop(stream);
-                temp.persist(&path)
-                    .map_err(|e| RecordError::io(&path, e.error))?;
+                output.commit()?;
             }
             None => {
                 stream

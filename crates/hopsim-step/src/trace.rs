@@ -220,19 +220,14 @@ impl ImpulseTrace {
         Self::from_csv(&text, &path.display().to_string())
     }
 
-    /// Writes the trace atomically (temporary file in the same folder, then rename).
+    /// Writes the trace atomically (hidden temporary sibling, synced, then renamed).
     pub fn write(&self, path: &Path) -> Result<(), TraceError> {
-        let io = |source| TraceError::Io {
-            path: path.display().to_string(),
-            source,
-        };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(io)?;
-        }
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".partial");
-        std::fs::write(&tmp, self.to_csv()).map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(io)
+        hopsim_io::write_atomically(path, |w| w.write_all(self.to_csv().as_bytes())).map_err(|e| {
+            TraceError::Io {
+                path: path.display().to_string(),
+                source: e.source,
+            }
+        })
     }
 
     /// Compares `other` against `self` (the reference); `None` when every sample agrees

@@ -101,7 +101,7 @@ pub struct OutDir {
 impl OutDir {
     /// Creates `dir` (and parents).
     pub fn create(dir: &Path) -> anyhow::Result<Self> {
-        hopsim_analysis::output::create_dir(dir)?;
+        hopsim_io::create_dir(dir)?;
         Ok(OutDir {
             dir: dir.to_path_buf(),
             files: Vec::new(),
@@ -114,11 +114,7 @@ impl OutDir {
     }
 
     /// Writes a CSV table as `dir/name`.
-    pub fn csv(
-        &mut self,
-        name: &str,
-        table: &hopsim_analysis::output::CsvTable,
-    ) -> anyhow::Result<()> {
+    pub fn csv(&mut self, name: &str, table: &hopsim_io::CsvTable) -> anyhow::Result<()> {
         let path = self.path(name);
         table.write(&path)?;
         self.files.push(path);
@@ -126,12 +122,12 @@ impl OutDir {
     }
 
     /// Writes a figure as `dir/stem.png` and `dir/stem.svg`.
-    pub fn figure<F: hopsim_analysis::plot::Figure>(
+    pub fn figure<F: hopsim_studies::plot::Figure>(
         &mut self,
         stem: &str,
         figure: &F,
     ) -> anyhow::Result<()> {
-        let written = hopsim_analysis::plot::write_png_and_svg(figure, &self.path(stem))?;
+        let written = hopsim_studies::plot::write_png_and_svg(figure, &self.path(stem))?;
         self.files.extend(written);
         Ok(())
     }
@@ -246,9 +242,7 @@ pub fn check_all_finite(values: &[(&str, Option<f64>)]) -> anyhow::Result<()> {
 /// A progress bar that draws only on a terminal, and never when `hidden` (see
 /// [`OutputArgs::hide_progress`]).
 pub fn bar(len: usize, message: &str, hidden: bool) -> indicatif::ProgressBar {
-    if hidden {
-        hopsim_analysis::progress::hidden_bar()
-    } else {
-        hopsim_analysis::progress::progress_bar(len, message)
-    }
+    let bar = crate::cmd::progress::count_bar(len as u64, "cells", hidden);
+    bar.set_message(message.to_string());
+    bar
 }

@@ -7,10 +7,10 @@ use hopsim_analysis::fixed_points::{
     DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE,
 };
 use hopsim_analysis::numerics::Complex;
-use hopsim_analysis::output::{Cell, CsvTable};
-use hopsim_analysis::plot::{Heatmap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use hopsim_analysis::robbit::{FlywheelAtTouchdown, RobbitParams, SectionState};
-use hopsim_analysis::robbit_stepper::{
+use hopsim_io::{Cell, CsvTable};
+use hopsim_studies::plot::{Heatmap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
+use hopsim_studies::robbit_gait::{
     compare, simulate_from_rest, GaitComparison, GaitTolerance, StepperRun, StepperSettings,
 };
 use serde_json::{json, Value};
@@ -474,7 +474,7 @@ fn write_simulation(out: &mut OutDir, sim: &Simulation) -> anyhow::Result<()> {
         ]);
     }
     out.csv("simulation_takeoffs.csv", &csv)?;
-    let series = |f: fn(&hopsim_analysis::robbit_stepper::TakeoffDifference) -> f64| {
+    let series = |f: fn(&hopsim_studies::robbit_gait::TakeoffDifference) -> f64| {
         c.takeoffs
             .iter()
             .map(|d| (d.index as f64, f(d)))
@@ -746,7 +746,8 @@ fn run_grid(args: &FixedPointsArgs, p: &RobbitParams) -> anyhow::Result<()> {
     );
     let started = Instant::now();
     let bar = common::bar(n * m, "Robbit fixed points", args.output.hide_progress());
-    let points = grid.run(&bar)?;
+    let points = grid.run(&|| bar.inc(1))?;
+    bar.finish_and_clear();
     let elapsed = started.elapsed().as_secs_f64();
     let found: Vec<&GridPoint> = points.iter().filter(|q| q.fixed_point.is_some()).collect();
     let stable: Vec<&GridPoint> = found

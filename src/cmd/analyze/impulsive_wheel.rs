@@ -3,8 +3,8 @@
 use clap::Args;
 use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel};
 use hopsim_analysis::numerics::linspace;
-use hopsim_analysis::output::CsvTable;
-use hopsim_analysis::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
+use hopsim_io::CsvTable;
+use hopsim_studies::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use serde_json::json;
 
 use super::common::{self, invalid, num, nums, opt_num, OutDir, OutputArgs, Table};

@@ -5,8 +5,8 @@ use hopsim_analysis::numerics::{linspace, logspace};
 use hopsim_analysis::obstacle::{
     self, region_map_allometric, region_map_inertia_froude, RegionCell, Strategy, Wheel,
 };
-use hopsim_analysis::output::CsvTable;
-use hopsim_analysis::plot::{CategoryMap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
+use hopsim_io::CsvTable;
+use hopsim_studies::plot::{CategoryMap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use indicatif::ProgressBar;
 use serde_json::json;
 use std::time::Instant;
@@ -277,6 +277,7 @@ fn timed_map(
 ) -> anyhow::Result<Vec<RegionCell>> {
     let started = Instant::now();
     let cells = map(&bar)?;
+    bar.finish_and_clear();
     timings.push((name, started.elapsed().as_secs_f64()));
     Ok(cells)
 }
@@ -368,7 +369,7 @@ fn write_maps(
             &mut timings,
             format!("alpha_froude h/R={ratio}"),
             common::bar(n * n, &format!("α × Fr, h/R = {ratio}"), hidden),
-            |bar| region_map_inertia_froude(ratio, &alphas, &map_froudes, bar),
+            |bar| region_map_inertia_froude(ratio, &alphas, &map_froudes, &|| bar.inc(1)),
         )?;
         out.csv(
             &format!("region_alpha_froude_h{tag}.csv"),
@@ -388,7 +389,7 @@ fn write_maps(
             &mut timings,
             format!("allometric h/R={ratio}"),
             common::bar(n * n, &format!("mass × speed, h/R = {ratio}"), hidden),
-            |bar| region_map_allometric(ratio, &masses, &speeds, bar),
+            |bar| region_map_allometric(ratio, &masses, &speeds, &|| bar.inc(1)),
         )?;
         out.csv(
             &format!("region_mass_speed_h{tag}.csv"),

@@ -1,13 +1,13 @@
 //! `hopsim analyze template`: the impulsive eccentric-wheel template (physics.md §5.1).
 
 use clap::{Args, ValueEnum};
-use hopsim_analysis::output::{Cell, CsvTable};
-use hopsim_analysis::plot::{Heatmap, LinePlot, Series, SeriesStyle, PALETTE};
 use hopsim_analysis::template::{
     self, sweep_case, CargoGrid, GridCell, Phase, SweepPoint, TemplateCase, TemplateParams,
     TemplateRun,
 };
 use hopsim_analysis::AnalysisError;
+use hopsim_io::{Cell, CsvTable};
+use hopsim_studies::plot::{Heatmap, LinePlot, Series, SeriesStyle, PALETTE};
 use serde_json::json;
 use std::time::Instant;
 
@@ -441,7 +441,8 @@ fn run_cargo_grid(args: &TemplateArgs) -> anyhow::Result<()> {
     }
     let started = Instant::now();
     let bar = common::bar(n * n, "Cargo grid", args.output.hide_progress());
-    let cells = grid.run(&bar)?;
+    let cells = grid.run(&|| bar.inc(1))?;
+    bar.finish_and_clear();
     let elapsed = started.elapsed().as_secs_f64();
     let converged: Vec<&GridCell> = cells.iter().filter(|c| c.converged().is_some()).collect();
     let best_cot = converged.iter().min_by(|a, b| {
@@ -600,7 +601,8 @@ fn run_animals(args: &TemplateArgs, cases: &[TemplateCase]) -> anyhow::Result<()
     for &case in cases {
         let base = apply_overrides(args, case.params())?;
         let bar = common::bar(ANGLES * n_energy, case.name(), args.output.hide_progress());
-        let points = sweep_case(case, &base, ANGLES, n_energy, &bar)?;
+        let points = sweep_case(case, &base, ANGLES, n_energy, &|| bar.inc(1))?;
+        bar.finish_and_clear();
         results.push((case, base, points));
     }
     let elapsed = started.elapsed().as_secs_f64();

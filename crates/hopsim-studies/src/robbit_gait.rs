@@ -1,5 +1,5 @@
 //! Robbit in the time-stepper (physics.md §4, §5.3): the cross-check of the reduced model
-//! of [`crate::robbit`] and [`crate::fixed_points`].
+//! of `hopsim_analysis::robbit` and `hopsim_analysis::fixed_points`.
 //!
 //! [`robbit_model`] builds the two-body model (disc + flywheel pivoting at the CoM) for
 //! `hopsim-step`; [`simulate_from_rest`] runs it from rest on the ground under
@@ -14,9 +14,10 @@
 //! switches the motor on again (the step after touchdown): the touchdown impact then acts
 //! on the locked pair, as in the reduced model.
 
-use crate::error::{AnalysisError, Result};
-use crate::fixed_points::FixedPoint;
-use crate::robbit::{Control, FlywheelAtTouchdown, RobbitParams, SectionState};
+use crate::error::{Result, StudyError};
+use hopsim_analysis::fixed_points::FixedPoint;
+use hopsim_analysis::robbit::{Control, FlywheelAtTouchdown, RobbitParams, SectionState};
+use hopsim_analysis::AnalysisError;
 use hopsim_control::{
     ControlEvent, ControlInput, Controller, MomentumImpulse, MomentumImpulseConfig,
 };
@@ -55,7 +56,7 @@ pub fn robbit_model(p: &RobbitParams) -> Result<Model> {
         Vec2::new(0.0, -p.gravity),
         ContactMaterial::inelastic(p.friction),
     )
-    .map_err(|e| AnalysisError::Stepper(e.to_string()))
+    .map_err(StudyError::from)
 }
 
 /// Settings of a time-stepper run.
@@ -164,13 +165,14 @@ pub fn simulate(
         ("torque", control.torque),
         ("impulse-limit", control.impulse_limit),
     ] {
-        crate::error::require_positive(name, value)?;
+        hopsim_analysis::error::require_positive(name, value)?;
     }
     if initial.q.len() != model.dof() || initial.u.len() != model.dof() {
         return Err(AnalysisError::Dimension(format!(
             "Robbit's state has {} coordinates",
             model.dof()
-        )));
+        ))
+        .into());
     }
     let mut stepper = Stepper::new(&model, StepSettings::strict(settings.dt));
     let mut controller = MomentumImpulse::new(
@@ -211,7 +213,7 @@ pub fn simulate(
         let before = (state.t, state.q[0], state.q[2], state.u[2], state.u[3]);
         let record = stepper
             .step(&model, &mut state, &actuation)
-            .map_err(|e| AnalysisError::Stepper(e.to_string()))?;
+            .map_err(hopsim_sim::RunError::from)?;
         in_contact = record.in_contact();
         max_penetration = max_penetration.max(record.max_penetration);
         if braked {

@@ -1,6 +1,6 @@
 //! Plots are written as PNG and SVG, atomically, with rendered text.
 
-use hopsim_analysis::plot::{
+use hopsim_studies::plot::{
     write_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle,
 };
 use plotters::prelude::*;

@@ -8,12 +8,12 @@ use hopsim_analysis::obstacle::{self, Wheel};
 use hopsim_analysis::robbit::{
     return_map, Control, FlywheelAtTouchdown, RobbitParams, SectionState,
 };
-use hopsim_analysis::robbit_stepper::{
-    compare, section_state, simulate, simulate_from_rest, GaitTolerance, StepperSettings,
-};
 use hopsim_analysis::template::{self, BodyState, TemplateCase, TemplateParams};
 use hopsim_model::{ContactMaterial, Model, Shape, Terrain, TerrainFeature, Vec2};
 use hopsim_step::{Actuation, ImpulseCommand, State, StepSettings, Stepper};
+use hopsim_studies::robbit_gait::{
+    compare, section_state, simulate, simulate_from_rest, GaitTolerance, StepperSettings,
+};
 use nalgebra::DVector;
 use std::f64::consts::PI;
 
@@ -378,7 +378,7 @@ fn from_rest_convergence_over_the_default_grid() {
     for touchdown in [FlywheelAtTouchdown::Locked, FlywheelAtTouchdown::Free] {
         let p = robbit(touchdown);
         let grid = FixedPointGrid::new(p, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE, 10, 10);
-        let points = grid.run(&hopsim_analysis::progress::hidden_bar()).unwrap();
+        let points = grid.run(hopsim_analysis::grid::NO_PROGRESS).unwrap();
         let (mut stable, mut converged, mut consistent, mut consistent_converged) = (0, 0, 0, 0);
         for fp in points
             .iter()

@@ -2,7 +2,7 @@
 //! maps, written as PNG and SVG (plotters), atomically.
 //!
 //! ```no_run
-//! use hopsim_analysis::plot::{Heatmap, LinePlot, Series, write_png_and_svg};
+//! use hopsim_studies::plot::{Heatmap, LinePlot, Series, write_png_and_svg};
 //! let plot = LinePlot::new("speed", "hop", "speed [m/s]")
 //!     .with_series(Series::line("run 1", vec![(0.0, 0.1), (1.0, 0.2)]));
 //! write_png_and_svg(&plot, std::path::Path::new("out/speed")).unwrap(); // out/speed.png + .svg
@@ -14,8 +14,8 @@
 //! A new kind of figure implements [`Figure`] (drawing on any plotters backend) and gets
 //! PNG/SVG output from [`write_png`], [`write_svg`] and [`write_png_and_svg`].
 
-use crate::error::{AnalysisError, Result};
-use crate::output::{commit_temporary, temporary_sibling, write_atomic};
+use crate::error::{Result, StudyError};
+use hopsim_io::{write_atomically, AtomicPath};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -41,22 +41,18 @@ pub trait Figure {
 
 /// Writes `figure` as a PNG file at `path` (atomically).
 pub fn write_png<F: Figure>(figure: &F, path: &Path) -> Result<()> {
-    let temporary = temporary_sibling(path);
-    let plot_error = |message: String| AnalysisError::Plot {
-        path: path.to_path_buf(),
-        message,
-    };
-    let drawn = {
-        let root = BitMapBackend::new(&temporary, figure.size()).into_drawing_area();
+    let output = AtomicPath::create(path)?;
+    {
+        let root = BitMapBackend::new(output.temporary(), figure.size()).into_drawing_area();
         figure
             .draw(&root)
             .and_then(|()| root.present().map_err(|e| e.to_string()))
-    };
-    if let Err(message) = drawn {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(plot_error(message));
+            .map_err(|message| StudyError::Plot {
+                path: path.to_path_buf(),
+                message,
+            })?;
     }
-    commit_temporary(&temporary, path)
+    Ok(output.commit()?)
 }
 
 /// Writes `figure` as an SVG file at `path` (atomically).
@@ -67,12 +63,12 @@ pub fn write_svg<F: Figure>(figure: &F, path: &Path) -> Result<()> {
         figure
             .draw(&root)
             .and_then(|()| root.present().map_err(|e| e.to_string()))
-            .map_err(|message| AnalysisError::Plot {
+            .map_err(|message| StudyError::Plot {
                 path: path.to_path_buf(),
                 message,
             })?;
     }
-    write_atomic(path, svg.as_bytes())
+    Ok(write_atomically(path, |w| w.write_all(svg.as_bytes()))?)
 }
 
 /// Writes `stem.png` and `stem.svg`; returns both paths.

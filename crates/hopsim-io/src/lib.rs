@@ -1,0 +1,34 @@
+//! Output files for every hopsim writer: atomic files ([`AtomicFile`], [`AtomicPath`],
+//! [`write_atomically`]) and CSV tables ([`CsvTable`]).
+//!
+//! A failed or interrupted run never leaves a file that looks complete: every output is
+//! written under a hidden temporary name beside its target (`.<name>.partial-XXXXXX`),
+//! flushed, synced, and renamed over the target only when complete.
+
+mod atomic;
+mod csv;
+
+pub use atomic::{create_dir, write_atomically, AtomicFile, AtomicPath};
+pub use csv::{csv_field, Cell, CsvTable};
+
+use std::path::{Path, PathBuf};
+
+/// An I/O error on a named file.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct IoError {
+    /// The file the user named (never the temporary sibling).
+    pub path: PathBuf,
+    #[source]
+    pub source: std::io::Error,
+}
+
+impl IoError {
+    /// `source` on `path`.
+    pub fn new(path: &Path, source: std::io::Error) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
