@@ -6,6 +6,7 @@ pub mod exit;
 pub mod interrupt;
 pub mod lcp;
 pub mod progress;
+pub mod render;
 pub mod run;
 pub mod scene;
 pub mod sweep;
