@@ -24,6 +24,11 @@ test:
 bench:
     cargo bench --workspace
 
+# Peer benchmarks: Siconos' C Lemke and MuJoCo's rollout against hopsim, in one table
+# (installs libsiconos-numerics-dev and mujoco if missing; docs/performance.md)
+bench-peers:
+    bash benches/peers/run.sh
+
 # Formatting and lints, as CI checks them
 lint:
     cargo fmt --all -- --check

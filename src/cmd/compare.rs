@@ -1,8 +1,8 @@
 //! `hopsim compare A B`: compares two recordings' contact-impulse traces and states
-//! (the comparison itself is `hopsim_record::compare_files`).
+//! (the differences are found by `hopsim_record::diff_run_files`).
 
 use clap::Args;
-use hopsim_record::{compare_files, CompareOptions, TraceTolerance};
+use hopsim_record::{diff_run_files, RunDiffOptions, TraceTolerance};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -34,17 +34,17 @@ pub struct CompareArgs {
 }
 
 pub fn run(args: CompareArgs) -> anyhow::Result<ExitCode> {
-    let options = CompareOptions {
+    let options = RunDiffOptions {
         tolerance: TraceTolerance {
             abs: args.abs_tol,
             rel: args.rel_tol,
         },
         state_tolerance: args.states.then_some(args.state_tol),
     };
-    match compare_files(&args.reference, &args.other, &options) {
-        Ok(comparison) => {
-            print!("{comparison}");
-            Ok(if comparison.agree() {
+    match diff_run_files(&args.reference, &args.other, &options) {
+        Ok(diff) => {
+            print!("{diff}");
+            Ok(if diff.agree() {
                 ExitCode::SUCCESS
             } else {
                 ExitCode::FAILURE

@@ -4,13 +4,15 @@ use anyhow::Context;
 use clap::Args;
 use hopsim_record::{AtomicFile, CsvRecorder, McapRecorder, RecorderSet, RerunRecorder};
 use hopsim_scene::Override;
-use hopsim_sim::{recording_info, RecordingObserver, RunError, RunOptions};
+use hopsim_sim::{recording_info, RecordingObserver, RunError};
 use hopsim_step::StepError;
+use hopsim_studies::run_summary::run_scene;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use super::interrupt::{self, StopOnSignal};
+use super::progress::RunProgress;
 use super::{exit, scene::SceneArgs};
 
 /// Simulate a scene file, record the trajectory and print the run summary.
@@ -95,12 +97,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .map(AtomicFile::create)
         .transpose()?;
     let mut observer = RecordingObserver::new(recorders, &scene);
-    let options = RunOptions {
-        progress: (!args.quiet)
-            .then(|| super::progress::bar(scene.settings.duration, "simulating")),
-    };
+    let mut progress = (!args.quiet).then(|| RunProgress::new(&scene, "simulating"));
     interrupt::install();
-    let summary = match hopsim_sim::run(&scene, &options, &mut StopOnSignal(&mut observer)) {
+    let result = run_scene(&scene, &mut StopOnSignal((&mut observer, &mut progress)));
+    drop(progress);
+    let summary = match result {
         Ok(summary) => summary,
         Err(err) => {
             // Recorders dropped unfinished leave no output file behind.

@@ -164,6 +164,19 @@ impl fmt::Display for NoFixedPoint {
     }
 }
 
+impl NoFixedPoint {
+    /// The kind of failure as the fixed-point study counts it: the cycle's reason
+    /// ([`NoCycle::kind`]) when there is no cycle, else `solver-failed` or `moves-backward`
+    /// (the first also starts the [`fmt::Display`] text: `solver failed: …`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            NoFixedPoint::NoCycle { reason } => reason.kind(),
+            NoFixedPoint::NotConverged { .. } => "solver-failed",
+            NoFixedPoint::MovesBackward { .. } => "moves-backward",
+        }
+    }
+}
+
 /// `τ = sqrt(R/g)`: scales the angular-velocity residual to radians.
 fn time_scale(p: &RobbitParams) -> f64 {
     (p.radius / p.gravity).sqrt()
@@ -446,5 +459,53 @@ impl FixedPointGrid {
             }
         });
         Ok(results)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `kind()` is the serialised tag (of the cycle's reason when there is no cycle).
+    #[test]
+    fn kinds_are_the_serialised_tags() {
+        let control = Control {
+            torque: 0.2,
+            impulse_limit: 0.05,
+        };
+        let cycles = [
+            NoCycle::NoLiftOff {
+                normal_percussion: 0.1,
+            },
+            NoCycle::RollsAway { duration: 1.0 },
+            NoCycle::NeverBrakes {
+                stored_impulse: 0.01,
+            },
+            NoCycle::Numerical {
+                message: "x".into(),
+            },
+        ];
+        for reason in cycles {
+            let tag = serde_json::to_value(&reason).unwrap()["kind"].clone();
+            assert_eq!(tag, reason.kind());
+            assert_eq!(NoFixedPoint::NoCycle { reason }.kind(), tag);
+        }
+        for no in [
+            NoFixedPoint::NotConverged {
+                residual: 1e-3,
+                control,
+            },
+            NoFixedPoint::MovesBackward {
+                stride: -0.1,
+                control,
+            },
+        ] {
+            assert_eq!(serde_json::to_value(&no).unwrap()["kind"], no.kind());
+        }
+        let failed = NoFixedPoint::NotConverged {
+            residual: 1e-3,
+            control,
+        };
+        assert!(failed.to_string().starts_with("solver failed: "));
     }
 }

@@ -51,9 +51,10 @@ impl Default for ImpulsiveWheel {
     }
 }
 
-/// Fixed point and stability of the return map for one impulse.
+/// Fixed point of the take-off-angle return map for one impulse, and its stability (not
+/// Robbit's [`crate::fixed_points::FixedPoint`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct FixedPoint {
+pub struct TakeoffAngleFixedPoint {
     /// `‖ζ‖` [N s].
     #[serde(rename = "impulse_Ns")]
     pub impulse_ns: f64,
@@ -99,13 +100,13 @@ impl ImpulsiveWheel {
     }
 
     /// Fixed point and eigenvalue from the closed forms.
-    pub fn fixed_point(&self, impulse: f64) -> Result<FixedPoint> {
+    pub fn fixed_point(&self, impulse: f64) -> Result<TakeoffAngleFixedPoint> {
         self.validate()?;
         require_finite("impulse", impulse)?;
         let c = self.coupling(impulse);
         let w = self.drift();
         if c < w || c == 0.0 {
-            return Ok(FixedPoint {
+            return Ok(TakeoffAngleFixedPoint {
                 impulse_ns: impulse,
                 coupling: c,
                 fixed_point_rad: None,
@@ -115,7 +116,7 @@ impl ImpulsiveWheel {
         }
         let phi = 0.5 * (w / c).asin();
         let eigenvalue = 1.0 - 2.0 * (c * c - w * w).sqrt();
-        Ok(FixedPoint {
+        Ok(TakeoffAngleFixedPoint {
             impulse_ns: impulse,
             coupling: c,
             fixed_point_rad: Some(phi),

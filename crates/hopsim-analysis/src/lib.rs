@@ -6,7 +6,8 @@
 //! * [`impulsive_wheel`]: the take-off-angle return map of the impulsive wheel (§5.5).
 //! * [`robbit`]: Robbit's hopping cycle as a return map on the section before the brake
 //!   (§5.3); [`fixed_points`]: its fixed-point controls `β* = (T*, ζ0*)` and their stability
-//!   over a take-off angle × energy grid.
+//!   over a take-off angle × energy grid; [`cube`]: the impulse-actuated cube it is compared
+//!   with (§5.3 [5.21]).
 //! * [`grid`]: parallel grids reporting progress through a callback; [`numerics`]: root
 //!   finding, minimisation, Dormand–Prince.
 //!
@@ -14,6 +15,7 @@
 //! `hopsim-studies` cross-check these models against the time-stepper and draw them).
 //! `docs/analysis.md` documents every equation, derivation and sign convention.
 
+pub mod cube;
 pub mod error;
 pub mod fixed_points;
 pub mod grid;

@@ -38,16 +38,21 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use std::f64::consts::PI;
 
-/// A wheel: mass, radius, inertia about its centre of mass, gravity.
+/// A wheel: mass, radius, inertia about its centre of mass, gravity (serialised with the
+/// units in the names: `mass_kg`, …).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Wheel {
     /// Mass `m` [kg].
+    #[serde(rename = "mass_kg")]
     pub mass: f64,
     /// Radius `R` [m].
+    #[serde(rename = "radius_m")]
     pub radius: f64,
     /// Moment of inertia about the centre of mass `I` [kg m²].
+    #[serde(rename = "inertia_kg_m2")]
     pub inertia: f64,
     /// Gravitational acceleration [m/s²].
+    #[serde(rename = "gravity_mps2")]
     pub gravity: f64,
 }
 
@@ -613,7 +618,7 @@ impl Strategy {
 
 /// The three strategies at one operating point.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct StepComparison {
+pub struct StrategyComparison {
     /// Approach speed [m/s].
     pub speed_mps: f64,
     /// Wall height [m].
@@ -638,8 +643,9 @@ pub struct StepComparison {
     pub cheapest: Strategy,
 }
 
-/// Compares the three strategies for `wheel` at `speed` over a wall of `height`.
-pub fn compare(wheel: &Wheel, speed: f64, height: f64) -> Result<StepComparison> {
+/// The cost of each of the three strategies for `wheel` at `speed` over a wall of `height`,
+/// and the cheapest (physics.md §5.2).
+pub fn compare_strategies(wheel: &Wheel, speed: f64, height: f64) -> Result<StrategyComparison> {
     let rolling = rolling_cost(wheel, speed, height)?;
     let trivial = trivial_hop_cost(wheel, height);
     let rotational = rotational_hop_cost(wheel, speed, height)?;
@@ -652,7 +658,7 @@ pub fn compare(wheel: &Wheel, speed: f64, height: f64) -> Result<StepComparison>
             cheapest = (Strategy::RotationalHop, hop.cost_j);
         }
     }
-    Ok(StepComparison {
+    Ok(StrategyComparison {
         speed_mps: speed,
         height_m: height,
         froude: wheel.froude(speed),
@@ -684,7 +690,7 @@ pub struct RegionCell {
 }
 
 fn region_cell(wheel: &Wheel, speed: f64, height: f64, x: f64, y: f64) -> Result<RegionCell> {
-    let cmp = compare(wheel, speed, height)?;
+    let cmp = compare_strategies(wheel, speed, height)?;
     let unit = wheel.energy_unit();
     Ok(RegionCell {
         x,

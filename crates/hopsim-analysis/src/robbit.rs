@@ -328,6 +328,19 @@ impl fmt::Display for NoCycle {
     }
 }
 
+impl NoCycle {
+    /// The variant's name as serialised (`kind`): `no-lift-off`, `rolls-away`,
+    /// `never-brakes`, `numerical`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            NoCycle::NoLiftOff { .. } => "no-lift-off",
+            NoCycle::RollsAway { .. } => "rolls-away",
+            NoCycle::NeverBrakes { .. } => "never-brakes",
+            NoCycle::Numerical { .. } => "numerical",
+        }
+    }
+}
+
 fn numerical(err: impl fmt::Display) -> NoCycle {
     NoCycle::Numerical {
         message: err.to_string(),

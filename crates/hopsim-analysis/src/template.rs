@@ -30,28 +30,37 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt;
 
-/// Parameters of one template run (SI units, angles in radians).
+/// Parameters of one template run (SI units, angles in radians; serialised with the
+/// units in the names: `radius_m`, `energy_input_J`, …).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TemplateParams {
     /// Foot (disc) radius `R` [m].
+    #[serde(rename = "radius_m")]
     pub radius: f64,
     /// Leg length `l` [m]: distance from the centre of mass to the rim; `a = R − l`.
+    #[serde(rename = "leg_length_m")]
     pub leg_length: f64,
     /// Mass `m` [kg].
+    #[serde(rename = "mass_kg")]
     pub mass: f64,
     /// Moment of inertia `I` about the centre of mass [kg m²].
+    #[serde(rename = "inertia_kg_m2")]
     pub inertia: f64,
     /// Take-off angle `φ_TO` [rad].
+    #[serde(rename = "takeoff_angle_rad")]
     pub takeoff_angle: f64,
     /// Energy added by each take-off impulse `ΔE` [J].
+    #[serde(rename = "energy_input_J")]
     pub energy_input: f64,
     /// Impulse tilt `τ` [rad]: `ρ = (−sin(φ_TO + τ), cos(φ_TO + τ))`.
+    #[serde(rename = "impulse_tilt_rad")]
     pub impulse_tilt: f64,
     /// Number of hops to simulate (physics.md: 100).
     pub hops: usize,
     /// Hops at the end of the run that the averages are taken over (physics.md: 10).
     pub window: usize,
     /// Gravitational acceleration [m/s²].
+    #[serde(rename = "gravity_mps2")]
     pub gravity: f64,
     /// A gait is "converged" when the per-hop speeds of the window differ by at most this
     /// fraction of their mean.
@@ -978,9 +987,10 @@ pub struct CargoGrid {
 }
 
 impl CargoGrid {
-    /// The Table-3.1 Cargo grid with `n_ratio × n_angle` cells.
-    pub fn table_3_1(n_ratio: usize, n_angle: usize) -> Self {
-        let base = TemplateParams {
+    /// The base parameters of the Table-3.1 Cargo grid (`R` and `φ_TO` are replaced per
+    /// cell).
+    pub fn table_3_1_base() -> TemplateParams {
+        TemplateParams {
             radius: CARGO_GRID_RANGES.radius.0,
             leg_length: 0.288,
             mass: 130.0,
@@ -989,7 +999,17 @@ impl CargoGrid {
             energy_input: 35.0,
             impulse_tilt: -0.2,
             ..TemplateCase::Cargo2.params()
-        };
+        }
+    }
+
+    /// The Table-3.1 Cargo grid with `n_ratio × n_angle` cells.
+    pub fn table_3_1(n_ratio: usize, n_angle: usize) -> Self {
+        Self::table_3_1_around(Self::table_3_1_base(), n_ratio, n_angle)
+    }
+
+    /// The Table-3.1 axes around other base parameters: `l/R` from `l/5.8` to `l/0.3` with
+    /// the base's leg length `l`, `φ_TO` over `−0.2 … −0.01`.
+    pub fn table_3_1_around(base: TemplateParams, n_ratio: usize, n_angle: usize) -> Self {
         let l = base.leg_length;
         CargoGrid {
             base,

@@ -2,7 +2,7 @@
 
 use hopsim_analysis::impact::{apply_impulse, inelastic_impact, kinetic_energy};
 use hopsim_analysis::obstacle::{
-    compare, corner_impact_loss, corner_jacobian, rolling_cost, rotational_hop,
+    compare_strategies, corner_impact_loss, corner_jacobian, rolling_cost, rotational_hop,
     rotational_hop_cost, trivial_hop_cost, RollingPath, Strategy, Wheel,
 };
 use hopsim_analysis::AnalysisError;
@@ -51,8 +51,8 @@ proptest! {
     fn costs_scale_with_m_g_r(alpha in 0.02f64..1.0, fr in 0.05f64..5.0, eta in 0.1f64..0.5, m in 0.1f64..50.0, r in 0.1f64..2.0) {
         let unit = Wheel::dimensionless(alpha);
         let real = Wheel { mass: m, radius: r, inertia: alpha * m * r * r, gravity: 9.81 };
-        let a = compare(&unit, unit.speed_from_froude(fr), eta).unwrap();
-        let b = compare(&real, real.speed_from_froude(fr), eta * r).unwrap();
+        let a = compare_strategies(&unit, unit.speed_from_froude(fr), eta).unwrap();
+        let b = compare_strategies(&real, real.speed_from_froude(fr), eta * r).unwrap();
         let tol = 1e-7;
         prop_assert!((a.rolling.cost_j / unit.energy_unit() - b.rolling.cost_j / real.energy_unit()).abs() < tol);
         prop_assert!((a.trivial_hop_j / unit.energy_unit() - b.trivial_hop_j / real.energy_unit()).abs() < tol);
@@ -183,14 +183,14 @@ fn optimal_rotational_hop_is_no_worse_than_any_scanned_phase() {
 fn rolling_wins_slow_and_hopping_wins_fast() {
     // The thesis' qualitative result: hopping outperforms rolling at large Froude numbers.
     let w = Wheel::dimensionless(0.5);
-    let slow = compare(&w, w.speed_from_froude(0.05), 0.2).unwrap();
-    let fast = compare(&w, w.speed_from_froude(5.0), 0.2).unwrap();
+    let slow = compare_strategies(&w, w.speed_from_froude(0.05), 0.2).unwrap();
+    let fast = compare_strategies(&w, w.speed_from_froude(5.0), 0.2).unwrap();
     assert_eq!(slow.cheapest, Strategy::Rolling);
     assert_ne!(fast.cheapest, Strategy::Rolling);
     // A light-inertia wheel profits from the rotational hop at moderate speed.
     let light = Wheel::dimensionless(0.02);
     assert_eq!(
-        compare(&light, light.speed_from_froude(1.0), 0.3)
+        compare_strategies(&light, light.speed_from_froude(1.0), 0.3)
             .unwrap()
             .cheapest,
         Strategy::RotationalHop
@@ -205,11 +205,11 @@ fn invalid_obstacles_are_errors() {
         Err(AnalysisError::InvalidParameter { .. })
     ));
     assert!(matches!(
-        compare(&w, -1.0, 0.2),
+        compare_strategies(&w, -1.0, 0.2),
         Err(AnalysisError::InvalidParameter { .. })
     ));
     let bad = Wheel { mass: 0.0, ..w };
-    assert!(compare(&bad, 1.0, 0.2).is_err());
+    assert!(compare_strategies(&bad, 1.0, 0.2).is_err());
     let j = corner_jacobian(1.0, 0.2);
     assert!((j[(1, 2)] - (2.0 * 0.2 - 0.04f64).sqrt()).abs() < 1e-15);
 }

@@ -2,8 +2,8 @@
 
 use hopsim_analysis::template::{
     self, contact_jacobian, flight, gap, rolling_velocity, simulate, stance, stance_height,
-    takeoff_impulse, touchdown, BodyState, NoGaitReason, Phase, TemplateCase, TemplateParams,
-    TemplateRun,
+    takeoff_impulse, touchdown, BodyState, CargoGrid, NoGaitReason, Phase, TemplateCase,
+    TemplateParams, TemplateRun,
 };
 use hopsim_analysis::AnalysisError;
 use proptest::prelude::*;
@@ -276,6 +276,32 @@ fn invalid_parameters_are_errors_not_panics() {
         assert!(err.contains(name), "{err}");
         assert_eq!(TemplateCase::from_name(name).unwrap().name(), name);
     }
+}
+
+/// The Cargo grid of Table 3.1 spans `R` from 5.8 m to 0.3 m whatever the leg length:
+/// around another base, the `l/R` axis follows the base's `l`, and each cell keeps the
+/// base's other parameters.
+#[test]
+fn cargo_grid_axes_follow_the_base_leg_length() {
+    let table = CargoGrid::table_3_1(4, 3);
+    assert_eq!(table, CargoGrid::table_3_1_around(table.base, 4, 3));
+    let base = TemplateParams {
+        leg_length: 0.6,
+        mass: 80.0,
+        ..CargoGrid::table_3_1_base()
+    };
+    let grid = CargoGrid::table_3_1_around(base, 4, 3);
+    let radii: Vec<f64> = grid.leg_over_radius.iter().map(|r| 0.6 / r).collect();
+    assert!(
+        (radii[0] - 5.8).abs() < 1e-12 && (radii[3] - 0.3).abs() < 1e-12,
+        "{radii:?}"
+    );
+    assert_eq!(grid.takeoff_angles, table.takeoff_angles);
+    let cells = grid.cells();
+    assert_eq!(cells.len(), 12);
+    assert!(cells.iter().all(|c| c.leg_length == 0.6 && c.mass == 80.0));
+    assert!((cells[5].radius - radii[1]).abs() < 1e-12);
+    assert_eq!(cells[5].takeoff_angle, grid.takeoff_angles[1]);
 }
 
 proptest! {

@@ -9,7 +9,7 @@ pub use config::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig}
 pub use momentum_impulse::MomentumImpulse;
 pub use pulse::Pulse;
 
-use hopsim_model::{Model, Workspace};
+use hopsim_model::{Kinematics, Model};
 use hopsim_step::{Actuation, State};
 
 /// What a controller sees before a step.
@@ -22,7 +22,7 @@ pub struct ControlInput<'a> {
     /// the midpoint scheme act at `t^M = state.t + Δt/2` (physics.md §4).
     pub dt: f64,
     /// Kinematics at the start of the step.
-    pub kinematics: &'a Workspace,
+    pub kinematics: &'a Kinematics,
     /// Whether any contact carried a normal percussion in the previous step.
     pub in_contact: bool,
     /// Whether each shape is currently switched on.
@@ -70,7 +70,7 @@ impl ControllerConfig {
 }
 
 /// Lowest gap of an enabled-or-not shape against the terrain (`+∞` if it touches nothing).
-pub fn shape_gap(model: &Model, kinematics: &Workspace, shape: usize) -> f64 {
+pub fn shape_gap(model: &Model, kinematics: &Kinematics, shape: usize) -> f64 {
     (0..model.contacts.len())
         .filter(|&i| model.contacts[i].shape == shape)
         .filter_map(|i| model.contact_geometry(kinematics, i))

@@ -40,11 +40,12 @@ impl Rotation {
     }
 }
 
-/// Reused buffers for evaluating a [`Model`] at one `(q, u)`; allocated once per model.
+/// The kinematics of a [`Model`] at one `(q, u)`: poses, velocities, Jacobians and
+/// velocity-product accelerations of every body, in buffers allocated once per model.
 ///
-/// After [`Workspace::update`] every field and method describes that `(q, u)`.
+/// After [`Kinematics::update`] every field and method describes that `(q, u)`.
 #[derive(Clone, Debug)]
-pub struct Workspace {
+pub struct Kinematics {
     /// Centre-of-mass position of each body, world frame, m.
     pub position: Vec<Vec2>,
     /// Absolute angle of each body, rad.
@@ -70,7 +71,7 @@ pub struct Workspace {
     bias: Vec<Vec2>,
 }
 
-impl Workspace {
+impl Kinematics {
     /// Buffers sized for `model`.
     pub fn new(model: &Model) -> Self {
         let nb = model.bodies.len();
@@ -113,7 +114,7 @@ impl Workspace {
         self.update_slices(model, q.as_slice(), u.as_slice());
     }
 
-    /// [`Workspace::update`] on plain slices.
+    /// [`Kinematics::update`] on plain slices.
     ///
     /// # Panics
     /// If `q` or `u` does not have [`Model::dof`] entries (the stepper checks the state
@@ -267,7 +268,7 @@ impl Workspace {
         }
     }
 
-    /// Adds `J_Pᵀ f` to `out`, see [`Workspace::add_point_force_to`].
+    /// Adds `J_Pᵀ f` to `out`, see [`Kinematics::add_point_force_to`].
     pub fn add_point_force(&self, b: usize, r: Vec2, f: Vec2, out: &mut DVector<f64>) {
         self.add_point_force_to(b, r, f, out.as_mut_slice());
     }
@@ -299,7 +300,7 @@ impl Workspace {
     }
 }
 
-/// The structural sparsity of the Jacobian rows (see [`Workspace::jacobian_pattern`]).
+/// The structural sparsity of the Jacobian rows (see [`Kinematics::jacobian_pattern`]).
 fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
     let mut rows: Vec<Vec<usize>> = vec![vec![0], vec![1], vec![2]];
     let union = |a: &[usize], b: &[usize]| {

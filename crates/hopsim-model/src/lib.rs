@@ -4,7 +4,8 @@
 //! (physics.md §1). It knows its mass matrix `M(q)`, the force vector `h(q, u, t)` and the
 //! contact kinematics (gaps `g_N`, directions `w_N`, `w_T`) of every potential contact
 //! between a body's contact shape and the terrain. The model is immutable once built;
-//! [`Workspace`] holds the reused buffers one evaluation needs.
+//! [`Kinematics`] is the model evaluated at one state `(q, u)`, in buffers reused from one
+//! evaluation to the next.
 
 mod body;
 mod contact;
@@ -18,7 +19,7 @@ mod terrain;
 pub use body::{Body, Joint, JointCoordinate};
 pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
 pub use forces::Spring;
-pub use kinematics::Workspace;
+pub use kinematics::Kinematics;
 pub use model::{Model, ModelError};
 pub use shape::{Shape, ShapeInstance};
 pub use terrain::{Terrain, TerrainFeature};

@@ -3,7 +3,7 @@
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
-use crate::{Body, Shape, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2, Workspace};
+use crate::{Body, Kinematics, Shape, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2};
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
 
 /// What makes a model impossible to build.
@@ -38,7 +38,7 @@ pub enum ModelError {
     BadSpring { spring: String, reason: String },
 }
 
-/// A planar multibody model; immutable once built (see [`Workspace`] for the buffers).
+/// A planar multibody model; immutable once built (evaluated at a state into a [`Kinematics`]).
 #[derive(Clone, Debug)]
 pub struct Model {
     /// Body 0 is the floating base with coordinates `(x, y, φ)`; body `b ≥ 1` adds
@@ -115,14 +115,14 @@ impl Model {
         self.bodies.iter().map(|b| b.mass).sum()
     }
 
-    /// Mass matrix `M = Σ_b J_bᵀ diag(m_b, m_b, I_b) J_b` (needs `ws.update` first).
-    pub fn mass_matrix(&self, ws: &Workspace, m: &mut DMatrix<f64>) {
+    /// Mass matrix `M = Σ_b J_bᵀ diag(m_b, m_b, I_b) J_b` (needs `kinematics.update` first).
+    pub fn mass_matrix(&self, kinematics: &Kinematics, m: &mut DMatrix<f64>) {
         // M is symmetric, so its column-major storage equals the row-major one.
-        self.mass_matrix_to(ws, m.as_mut_slice());
+        self.mass_matrix_to(kinematics, m.as_mut_slice());
     }
 
     /// [`Model::mass_matrix`] into the first `n²` entries of `m` (row-major, symmetric).
-    pub fn mass_matrix_to(&self, ws: &Workspace, m: &mut [f64]) {
+    pub fn mass_matrix_to(&self, kinematics: &Kinematics, m: &mut [f64]) {
         let n = self.dof();
         let m = &mut m[..n * n];
         m.fill(0.0);
@@ -130,8 +130,8 @@ impl Model {
         for (b, body) in self.bodies.iter().enumerate() {
             for k in 0..3 {
                 let w = if k < 2 { body.mass } else { body.inertia };
-                let row = ws.jacobian_row(3 * b + k);
-                match ws.jacobian_pattern(3 * b + k) {
+                let row = kinematics.jacobian_row(3 * b + k);
+                match kinematics.jacobian_pattern(3 * b + k) {
                     // A row touching one coordinate (the common case) adds to the diagonal.
                     &[i] => m[i * n + i] += w * row[i] * row[i],
                     pattern => {
@@ -155,31 +155,31 @@ impl Model {
     }
 
     /// Smooth forces `h(q, u)`: gravity, centripetal terms, springs and damping, plus the
-    /// generalised actuator forces `applied` (needs `ws.update` first).
-    pub fn forces(&self, ws: &Workspace, applied: &DVector<f64>, h: &mut DVector<f64>) {
+    /// generalised actuator forces `applied` (needs `kinematics.update` first).
+    pub fn forces(&self, kinematics: &Kinematics, applied: &DVector<f64>, h: &mut DVector<f64>) {
         h.copy_from(applied);
-        self.add_forces(ws, Some(h.as_mut_slice()), None);
-        self.add_forces(ws, None, Some(h.as_mut_slice()));
+        self.add_forces(kinematics, Some(h.as_mut_slice()), None);
+        self.add_forces(kinematics, None, Some(h.as_mut_slice()));
     }
 
     /// Only the dissipative part of `h`: joint and spring damping (for energy bookkeeping).
-    pub fn damping_forces(&self, ws: &Workspace, out: &mut DVector<f64>) {
+    pub fn damping_forces(&self, kinematics: &Kinematics, out: &mut DVector<f64>) {
         out.fill(0.0);
-        self.add_forces(ws, None, Some(out.as_mut_slice()));
+        self.add_forces(kinematics, None, Some(out.as_mut_slice()));
     }
 
     /// [`Model::forces`] and [`Model::damping_forces`] in one pass over slices of length
     /// `n`: `h = applied + conservative + damping`, `damping` alone.
     pub fn forces_split(
         &self,
-        ws: &Workspace,
+        kinematics: &Kinematics,
         applied: &[f64],
         h: &mut [f64],
         damping: &mut [f64],
     ) {
         h.copy_from_slice(applied);
         damping.fill(0.0);
-        self.add_forces(ws, Some(&mut *h), Some(&mut *damping));
+        self.add_forces(kinematics, Some(&mut *h), Some(&mut *damping));
         for (h, d) in h.iter_mut().zip(damping.iter()) {
             *h += d;
         }
@@ -189,7 +189,7 @@ impl Model {
     /// physics.md §1) to `conservative` and joint and spring damping to `dissipative`.
     fn add_forces(
         &self,
-        ws: &Workspace,
+        kinematics: &Kinematics,
         mut conservative: Option<&mut [f64]>,
         mut dissipative: Option<&mut [f64]>,
     ) {
@@ -197,24 +197,26 @@ impl Model {
             if let Some(h) = conservative.as_deref_mut() {
                 // M u̇ = Σ J_bᵀ m_b (g - J̇_b u): the velocity-product terms enter as the
                 // centripetal "bias" accelerations of the body's centre of mass.
-                let f = body.mass * (self.gravity - ws.bias(b));
-                ws.add_point_force_to(b, Vec2::zeros(), f, h);
+                let f = body.mass * (self.gravity - kinematics.bias(b));
+                kinematics.add_point_force_to(b, Vec2::zeros(), f, h);
             }
             if let (Some(h), Some(joint)) = (
                 dissipative.as_deref_mut(),
                 body.joint.as_ref().filter(|j| j.damping != 0.0),
             ) {
-                let rate = ws.angular_velocity[b] - ws.angular_velocity[joint.parent];
-                ws.add_torque_to(b, Some(joint.parent), -joint.damping * rate, h);
+                let rate =
+                    kinematics.angular_velocity[b] - kinematics.angular_velocity[joint.parent];
+                kinematics.add_torque_to(b, Some(joint.parent), -joint.damping * rate, h);
             }
         }
         for spring in &self.springs {
-            let (ra, rb) = self.spring_offsets(ws, spring);
-            let pa = ws.position[spring.body_a] + ra;
-            let pb = ws.position[spring.body_b] + rb;
+            let (ra, rb) = self.spring_offsets(kinematics, spring);
+            let pa = kinematics.position[spring.body_a] + ra;
+            let pb = kinematics.position[spring.body_b] + rb;
             let (dir, length) = separation(pa, pb);
             let rate = dir.dot(
-                &(ws.point_velocity(spring.body_a, ra) - ws.point_velocity(spring.body_b, rb)),
+                &(kinematics.point_velocity(spring.body_a, ra)
+                    - kinematics.point_velocity(spring.body_b, rb)),
             );
             let (elastic, damping) = spring.tension(length, rate);
             for (out, tension) in [
@@ -223,20 +225,20 @@ impl Model {
             ] {
                 if let Some(h) = out.filter(|_| tension != 0.0) {
                     let f = -tension * dir;
-                    ws.add_point_force_to(spring.body_a, ra, f, h);
-                    ws.add_point_force_to(spring.body_b, rb, -f, h);
+                    kinematics.add_point_force_to(spring.body_a, ra, f, h);
+                    kinematics.add_point_force_to(spring.body_b, rb, -f, h);
                 }
             }
         }
     }
 
     /// World offsets of a spring's two ends from their bodies' centres of mass.
-    fn spring_offsets(&self, ws: &Workspace, spring: &Spring) -> (Vec2, Vec2) {
+    fn spring_offsets(&self, kinematics: &Kinematics, spring: &Spring) -> (Vec2, Vec2) {
         let offset = |b: usize, p: Vec2| {
             if p == Vec2::zeros() {
                 p
             } else {
-                ws.rotation(b).apply(p)
+                kinematics.rotation(b).apply(p)
             }
         };
         (
@@ -246,25 +248,25 @@ impl Model {
     }
 
     /// World end points of spring `s`.
-    pub fn spring_ends(&self, ws: &Workspace, s: usize) -> (Vec2, Vec2) {
+    pub fn spring_ends(&self, kinematics: &Kinematics, s: usize) -> (Vec2, Vec2) {
         let spring = &self.springs[s];
-        let (ra, rb) = self.spring_offsets(ws, spring);
+        let (ra, rb) = self.spring_offsets(kinematics, spring);
         (
-            ws.position[spring.body_a] + ra,
-            ws.position[spring.body_b] + rb,
+            kinematics.position[spring.body_a] + ra,
+            kinematics.position[spring.body_b] + rb,
         )
     }
 
-    /// Geometry of potential contact `i` (needs `ws.update` first).
+    /// Geometry of potential contact `i` (needs `kinematics.update` first).
     #[inline]
-    pub fn contact_geometry(&self, ws: &Workspace, i: usize) -> Option<ContactGeometry> {
+    pub fn contact_geometry(&self, kinematics: &Kinematics, i: usize) -> Option<ContactGeometry> {
         let c = &self.contacts[i];
         let inst = &self.shapes[c.shape];
         contact_geometry(
             &inst.shape,
             c.feature,
-            ws.position[inst.body],
-            ws.rotation(inst.body),
+            kinematics.position[inst.body],
+            kinematics.rotation(inst.body),
             &self.terrain.features,
             c.terrain,
         )
@@ -274,72 +276,72 @@ impl Model {
     /// `w_T = J_Pᵀ t` of contact `i` at `geometry` (physics.md §1, [2.5-2.7]).
     pub fn contact_directions(
         &self,
-        ws: &Workspace,
+        kinematics: &Kinematics,
         i: usize,
         geometry: &ContactGeometry,
         w_n: DVectorViewMut<'_, f64>,
         w_t: DVectorViewMut<'_, f64>,
     ) {
         let body = self.shapes[self.contacts[i].shape].body;
-        let r = geometry.point - ws.position[body];
-        ws.point_force_direction(body, r, geometry.normal, w_n);
-        ws.point_force_direction(body, r, geometry.tangent(), w_t);
+        let r = geometry.point - kinematics.position[body];
+        kinematics.point_force_direction(body, r, geometry.normal, w_n);
+        kinematics.point_force_direction(body, r, geometry.tangent(), w_t);
     }
 
     /// [`Model::contact_directions`] into slices of length `n`.
     #[inline]
     pub fn contact_directions_to(
         &self,
-        ws: &Workspace,
+        kinematics: &Kinematics,
         i: usize,
         geometry: &ContactGeometry,
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) {
         let body = self.shapes[self.contacts[i].shape].body;
-        let r = geometry.point - ws.position[body];
-        ws.point_force_direction_to(body, r, geometry.normal, w_n);
-        ws.point_force_direction_to(body, r, geometry.tangent(), w_t);
+        let r = geometry.point - kinematics.position[body];
+        kinematics.point_force_direction_to(body, r, geometry.normal, w_n);
+        kinematics.point_force_direction_to(body, r, geometry.tangent(), w_t);
     }
 
     /// Kinetic energy `½ Σ (m_b |v_b|² + I_b ω_b²)` = `½ uᵀ M u`.
-    pub fn kinetic_energy(&self, ws: &Workspace) -> f64 {
+    pub fn kinetic_energy(&self, kinematics: &Kinematics) -> f64 {
         self.bodies
             .iter()
             .enumerate()
             .map(|(b, body)| {
-                0.5 * (body.mass * ws.velocity[b].norm_squared()
-                    + body.inertia * ws.angular_velocity[b].powi(2))
+                0.5 * (body.mass * kinematics.velocity[b].norm_squared()
+                    + body.inertia * kinematics.angular_velocity[b].powi(2))
             })
             .sum()
     }
 
     /// Gravitational potential energy `-Σ m_b g · p_b` (zero at the origin).
-    pub fn potential_energy(&self, ws: &Workspace) -> f64 {
+    pub fn potential_energy(&self, kinematics: &Kinematics) -> f64 {
         self.bodies
             .iter()
             .enumerate()
-            .map(|(b, body)| -body.mass * self.gravity.dot(&ws.position[b]))
+            .map(|(b, body)| -body.mass * self.gravity.dot(&kinematics.position[b]))
             .sum()
     }
 
     /// Energy stored in the springs.
-    pub fn spring_energy(&self, ws: &Workspace) -> f64 {
+    pub fn spring_energy(&self, kinematics: &Kinematics) -> f64 {
         (0..self.springs.len())
             .map(|s| {
-                let (a, b) = self.spring_ends(ws, s);
+                let (a, b) = self.spring_ends(kinematics, s);
                 self.springs[s].energy((a - b).norm())
             })
             .sum()
     }
 
     /// Centre of mass of the whole robot, m.
-    pub fn center_of_mass(&self, ws: &Workspace) -> Vec2 {
+    pub fn center_of_mass(&self, kinematics: &Kinematics) -> Vec2 {
         let weighted: Vec2 = self
             .bodies
             .iter()
             .enumerate()
-            .map(|(b, body)| body.mass * ws.position[b])
+            .map(|(b, body)| body.mass * kinematics.position[b])
             .sum();
         weighted / self.total_mass()
     }

@@ -3,7 +3,7 @@
 //! refinement, by point-segment distances and by parry2d's GJK/EPA queries; and the
 //! clearance of every shape above a step, from all its candidates together.
 
-use hopsim_model::{ContactMaterial, Model, Shape, Terrain, TerrainFeature, Vec2, Workspace};
+use hopsim_model::{ContactMaterial, Kinematics, Model, Shape, Terrain, TerrainFeature, Vec2};
 use nalgebra::DVector;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query::details::distance_support_map_support_map;
@@ -15,10 +15,10 @@ fn model(shape: Shape, terrain: Terrain) -> Model {
     Model::single_body(1.0, 0.01, shape, terrain, ContactMaterial::default()).unwrap()
 }
 
-fn workspace(model: &Model, pose: [f64; 3]) -> Workspace {
-    let mut ws = Workspace::new(model);
-    ws.update(model, &DVector::from_row_slice(&pose), &DVector::zeros(3));
-    ws
+fn workspace(model: &Model, pose: [f64; 3]) -> Kinematics {
+    let mut kinematics = Kinematics::new(model);
+    kinematics.update(model, &DVector::from_row_slice(&pose), &DVector::zeros(3));
+    kinematics
 }
 
 fn rotate(theta: f64, v: Vec2) -> Vec2 {
@@ -139,15 +139,15 @@ fn check_corner(shape: Shape, pose: [f64; 3], reference: f64) -> Result<(), Test
                     0.4,
                 ),
             );
-            let ws = workspace(&probe, pose);
-            (0..probe.contacts.len()).find_map(|i| probe.contact_geometry(&ws, i))
+            let kinematics = workspace(&probe, pose);
+            (0..probe.contacts.len()).find_map(|i| probe.contact_geometry(&kinematics, i))
         })
         .map(|g| g.normal)
         .expect("some cone holds the normal");
     let m = model(shape.clone(), corner(axis, 0.2));
-    let ws = workspace(&m, pose);
+    let kinematics = workspace(&m, pose);
     let g = (0..m.contacts.len())
-        .find_map(|i| m.contact_geometry(&ws, i))
+        .find_map(|i| m.contact_geometry(&kinematics, i))
         .expect("a corner contact inside the cone");
     prop_assert!(
         (g.gap - reference).abs() < 1e-9,
@@ -164,8 +164,10 @@ fn check_corner(shape: Shape, pose: [f64; 3], reference: f64) -> Result<(), Test
         g.normal
     );
     let excluded = model(shape, corner(-axis, 0.2));
-    let ws = workspace(&excluded, pose);
-    prop_assert!((0..excluded.contacts.len()).all(|i| excluded.contact_geometry(&ws, i).is_none()));
+    let kinematics = workspace(&excluded, pose);
+    prop_assert!(
+        (0..excluded.contacts.len()).all(|i| excluded.contact_geometry(&kinematics, i).is_none())
+    );
     Ok(())
 }
 
@@ -178,10 +180,10 @@ fn a_step_face_does_not_claim_points_behind_the_top() {
     let square = Shape::rectangle(Vec2::zeros(), 0.05, 0.05);
     let m = model(square, Terrain::step(-0.3, 0.1));
     let touching = |pose: [f64; 3]| -> Vec<(usize, f64)> {
-        let ws = workspace(&m, pose);
+        let kinematics = workspace(&m, pose);
         (0..m.contacts.len())
             .filter_map(|i| {
-                m.contact_geometry(&ws, i)
+                m.contact_geometry(&kinematics, i)
                     .map(|g| (m.contacts[i].terrain, g.gap))
             })
             .filter(|(_, gap)| *gap <= 0.0)
@@ -295,9 +297,9 @@ proptest! {
         let clearance = world.iter().map(|p| region_distance(*p)).fold(f64::INFINITY, f64::min);
         prop_assume!(clearance > 1e-3);
         let m = model(shape, Terrain::step(face, height));
-        let ws = workspace(&m, [x, y, phi]);
+        let kinematics = workspace(&m, [x, y, phi]);
         let gap = (0..m.contacts.len())
-            .filter_map(|i| m.contact_geometry(&ws, i))
+            .filter_map(|i| m.contact_geometry(&kinematics, i))
             .map(|g| g.gap)
             .fold(f64::INFINITY, f64::min);
         prop_assert!(gap <= clearance + 1e-12, "gap {gap} above clearance {clearance}");
@@ -354,10 +356,10 @@ fn arc_minimum(
 /// The geometry of `m`'s candidates at `pose` by feature: `(terrain index, shape feature,
 /// geometry)` of every reported contact.
 fn reported(m: &Model, pose: [f64; 3]) -> Vec<(usize, ShapeFeature, ContactGeometry)> {
-    let ws = workspace(m, pose);
+    let kinematics = workspace(m, pose);
     (0..m.contacts.len())
         .filter_map(|i| {
-            m.contact_geometry(&ws, i)
+            m.contact_geometry(&kinematics, i)
                 .map(|g| (m.contacts[i].terrain, m.contacts[i].feature, g))
         })
         .collect()
@@ -506,7 +508,9 @@ proptest! {
         let mut expected: Vec<(usize, f64)> = Vec::new();
         if p.x < face {
             expected.push((0, p.y));
-            if p.y <= height {
+            // The face spans the heights 0 to `height`; a point below the ground is not
+            // over it.
+            if (0.0..=height).contains(&p.y) {
                 expected.push((1, face - p.x));
             }
         } else {

@@ -2,8 +2,8 @@
 //! finite differences of positions and energies, and Lagrange's equations (physics.md §1).
 
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, Model, Shape, ShapeInstance, Spring, Terrain,
-    Vec2, Workspace,
+    Body, ContactMaterial, Joint, JointCoordinate, Kinematics, Model, Shape, ShapeInstance, Spring,
+    Terrain, Vec2,
 };
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
@@ -74,24 +74,30 @@ fn tree(offsets: [f64; 6], damping: f64) -> Model {
     .unwrap()
 }
 
-fn evaluate(model: &Model, q: &DVector<f64>, u: &DVector<f64>) -> Workspace {
-    let mut ws = Workspace::new(model);
-    ws.update(model, q, u);
-    ws
+fn evaluate(model: &Model, q: &DVector<f64>, u: &DVector<f64>) -> Kinematics {
+    let mut kinematics = Kinematics::new(model);
+    kinematics.update(model, q, u);
+    kinematics
 }
 
 /// Stacked body poses `(x_b, y_b, θ_b)`.
 fn poses(model: &Model, q: &DVector<f64>) -> DVector<f64> {
-    let ws = evaluate(model, q, &DVector::zeros(q.len()));
+    let kinematics = evaluate(model, q, &DVector::zeros(q.len()));
     DVector::from_iterator(
         3 * model.bodies.len(),
-        (0..model.bodies.len()).flat_map(|b| [ws.position[b].x, ws.position[b].y, ws.angle[b]]),
+        (0..model.bodies.len()).flat_map(|b| {
+            [
+                kinematics.position[b].x,
+                kinematics.position[b].y,
+                kinematics.angle[b],
+            ]
+        }),
     )
 }
 
-fn jacobian(ws: &Workspace, bodies: usize, n: usize) -> DMatrix<f64> {
+fn jacobian(kinematics: &Kinematics, bodies: usize, n: usize) -> DMatrix<f64> {
     DMatrix::from_fn(3 * bodies, n, |r, j| {
-        let (x, y, t) = ws.jacobian_rows(r / 3);
+        let (x, y, t) = kinematics.jacobian_rows(r / 3);
         [x, y, t][r % 3][j]
     })
 }
@@ -101,8 +107,8 @@ fn kinetic(model: &Model, q: &DVector<f64>, u: &DVector<f64>) -> f64 {
 }
 
 fn potential(model: &Model, q: &DVector<f64>) -> f64 {
-    let ws = evaluate(model, q, &DVector::zeros(q.len()));
-    model.potential_energy(&ws) + model.spring_energy(&ws)
+    let kinematics = evaluate(model, q, &DVector::zeros(q.len()));
+    model.potential_energy(&kinematics) + model.spring_energy(&kinematics)
 }
 
 /// Central difference of `f` along `dir`.
@@ -132,10 +138,10 @@ proptest! {
         let model = tree(offsets, 0.0);
         let n = model.dof();
         let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
-        let mut ws = Workspace::new(&model);
-        ws.update(&model, &(&q * 0.5), &(&u * -2.0));
-        ws.update(&model, &q, &u);
-        let jac = jacobian(&ws, model.bodies.len(), n);
+        let mut kinematics = Kinematics::new(&model);
+        kinematics.update(&model, &(&q * 0.5), &(&u * -2.0));
+        kinematics.update(&model, &q, &u);
+        let jac = jacobian(&kinematics, model.bodies.len(), n);
         let h = 1e-6;
         for j in 0..n {
             let e = unit(n, j);
@@ -144,12 +150,12 @@ proptest! {
         }
         let v = &jac * &u;
         for b in 0..model.bodies.len() {
-            prop_assert!((ws.velocity[b] - Vec2::new(v[3 * b], v[3 * b + 1])).norm() < 1e-12);
-            prop_assert!((ws.angular_velocity[b] - v[3 * b + 2]).abs() < 1e-12);
+            prop_assert!((kinematics.velocity[b] - Vec2::new(v[3 * b], v[3 * b + 1])).norm() < 1e-12);
+            prop_assert!((kinematics.angular_velocity[b] - v[3 * b + 2]).abs() < 1e-12);
             // J̇ u = d/ds [J(q + s u)] u at s = 0.
             let j_at = |s: f64| jacobian(&evaluate(&model, &(&q + s * &u), &u), model.bodies.len(), n);
             let jdot_u = (j_at(h) - j_at(-h)) / (2.0 * h) * &u;
-            let bias = ws.bias(b);
+            let bias = kinematics.bias(b);
             prop_assert!((bias - Vec2::new(jdot_u[3 * b], jdot_u[3 * b + 1])).norm() < 1e-6,
                 "bias {bias} vs {}", jdot_u);
         }
@@ -163,13 +169,13 @@ proptest! {
         let model = tree(offsets, 0.0);
         let n = model.dof();
         let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
-        let ws = evaluate(&model, &q, &u);
+        let kinematics = evaluate(&model, &q, &u);
         let mut m = DMatrix::zeros(n, n);
-        model.mass_matrix(&ws, &mut m);
+        model.mass_matrix(&kinematics, &mut m);
         prop_assert!((&m - m.transpose()).amax() < 1e-15);
-        prop_assert!((0.5 * u.dot(&(&m * &u)) - model.kinetic_energy(&ws)).abs() < 1e-12);
+        prop_assert!((0.5 * u.dot(&(&m * &u)) - model.kinetic_energy(&kinematics)).abs() < 1e-12);
         let mut h = DVector::zeros(n);
-        model.forces(&ws, &DVector::zeros(n), &mut h);
+        model.forces(&kinematics, &DVector::zeros(n), &mut h);
         let step = 1e-6;
         let m_at = |q: &DVector<f64>| {
             let mut m = DMatrix::zeros(n, n);
@@ -194,18 +200,18 @@ proptest! {
         let model = tree(offsets, c);
         let n = model.dof();
         let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
-        let ws = evaluate(&model, &q, &u);
+        let kinematics = evaluate(&model, &q, &u);
         let mut d = DVector::zeros(n);
-        model.damping_forces(&ws, &mut d);
+        model.damping_forces(&kinematics, &mut d);
         let joints: f64 = (1..3)
             .map(|b| {
                 let p = model.bodies[b].joint.as_ref().unwrap().parent;
-                (ws.angular_velocity[b] - ws.angular_velocity[p]).powi(2)
+                (kinematics.angular_velocity[b] - kinematics.angular_velocity[p]).powi(2)
             })
             .sum();
         let length = |q: &DVector<f64>| {
-            let ws = evaluate(&model, q, &u);
-            let (a, b) = model.spring_ends(&ws, 0);
+            let kinematics = evaluate(&model, q, &u);
+            let (a, b) = model.spring_ends(&kinematics, 0);
             (a - b).norm()
         };
         let rate = along(length, &q, &u, 1e-6);

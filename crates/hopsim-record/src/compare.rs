@@ -1,5 +1,6 @@
-//! Comparison of two runs (`hopsim compare`): contact-impulse traces with
-//! [`ImpulseTrace::compare`], and optionally the states `q`, `u` at the same steps.
+//! Differences between two runs' files (`hopsim compare`): their contact-impulse traces
+//! ([`ImpulseTrace::first_difference`]) and optionally their states `q`, `u` at the same
+//! steps ([`diff_recorded_states`]).
 //!
 //! Inputs are hopsim MCAP recordings or impulse-trace CSV files (told apart by content).
 //! A recording holds the impulses of the recorded steps only (and each brake, from its
@@ -16,19 +17,21 @@ use std::path::Path;
 /// Channel prefix of velocity locks (brakes) in impulse traces.
 const LOCK_PREFIX: &str = "lock:";
 
-/// What to compare and how strictly (default: [`TraceTolerance::default`], no states).
+/// What [`diff_run_files`] compares and how strictly (default: [`TraceTolerance::default`],
+/// no states).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CompareOptions {
+pub struct RunDiffOptions {
     /// Tolerance on impulses.
     pub tolerance: TraceTolerance,
     /// Also compare the states with this absolute tolerance (needs two recordings).
     pub state_tolerance: Option<f64>,
 }
 
-/// The outcome of comparing a reference run with another.
+/// How a run differs from a reference run ([`diff_run_files`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Comparison {
-    /// Impulse samples compared (distinct step × channel pairs of both sides).
+pub struct RunDiff {
+    /// Impulse samples compared ([`ImpulseTrace::compared_samples`]: the distinct
+    /// `(step, channel)` pairs of both sides).
     pub impulse_samples: usize,
     /// The first impulse that differs, if any.
     pub impulses: Option<TraceDifference>,
@@ -38,14 +41,14 @@ pub struct Comparison {
     pub notes: Vec<String>,
 }
 
-impl Comparison {
+impl RunDiff {
     /// True when everything compared agrees within tolerance.
     pub fn agree(&self) -> bool {
         self.impulses.is_none() && !matches!(self.states, Some(Err(_)))
     }
 }
 
-impl fmt::Display for Comparison {
+impl fmt::Display for RunDiff {
     /// One line per compared quantity: `identical within tolerance (N samples)` or the
     /// first difference.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -132,13 +135,13 @@ impl fmt::Display for StateMismatch {
     }
 }
 
-/// A comparison input.
-enum Run {
+/// An input of [`diff_run_files`].
+enum RunFile {
     Trace(ImpulseTrace),
     Recording(Box<McapRecording>),
 }
 
-impl Run {
+impl RunFile {
     /// Reads an MCAP recording (told by its magic bytes) or an impulse-trace CSV file.
     fn read(path: &Path) -> Result<Self, RecordError> {
         let bytes = std::fs::read(path).map_err(|e| RecordError::io(path, e))?;
@@ -146,13 +149,14 @@ impl Run {
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
         if bytes.starts_with(mcap::MAGIC) || is_mcap_name {
-            return McapRecording::from_bytes(&bytes, path).map(|r| Run::Recording(Box::new(r)));
+            return McapRecording::from_bytes(&bytes, path)
+                .map(|r| RunFile::Recording(Box::new(r)));
         }
         let text = String::from_utf8(bytes).map_err(|_| {
             RecordError::format(path, "neither a hopsim MCAP recording nor an impulse trace")
         })?;
         ImpulseTrace::from_csv(&text, &path.display().to_string())
-            .map(Run::Trace)
+            .map(RunFile::Trace)
             .map_err(|e| match e {
                 TraceError::Io { path, source } => RecordError::Io { path, source },
                 TraceError::Format {
@@ -169,39 +173,36 @@ impl Run {
     }
 }
 
-/// Compares the run at `other` with the reference at `reference`. `Err` when an input
-/// cannot be read or `--states` is asked of an impulse trace; the error names the file.
-pub fn compare_files(
+/// How the run in file `other` differs from the reference run in file `reference` (each an
+/// MCAP recording or an impulse trace). `Err` when an input cannot be read or `--states` is
+/// asked of an impulse trace; the error names the file.
+pub fn diff_run_files(
     reference: &Path,
     other: &Path,
-    options: &CompareOptions,
-) -> Result<Comparison, RecordError> {
-    let (a, b) = (Run::read(reference)?, Run::read(other)?);
+    options: &RunDiffOptions,
+) -> Result<RunDiff, RecordError> {
+    let (a, b) = (RunFile::read(reference)?, RunFile::read(other)?);
     let mut notes = Vec::new();
     let states = match (&a, &b, options.state_tolerance) {
-        (Run::Recording(x), Run::Recording(y), Some(tol)) => Some(compare_states(x, y, tol)),
+        (RunFile::Recording(x), RunFile::Recording(y), Some(tol)) => {
+            Some(diff_recorded_states(x, y, tol))
+        }
         (_, _, None) => None,
-        (Run::Trace(_), _, Some(_)) => return Err(needs_recording(reference)),
-        (_, Run::Trace(_), Some(_)) => return Err(needs_recording(other)),
+        (RunFile::Trace(_), _, Some(_)) => return Err(needs_recording(reference)),
+        (_, RunFile::Trace(_), Some(_)) => return Err(needs_recording(other)),
     };
     let (ta, tb) = match (a, b) {
-        (Run::Trace(x), Run::Trace(y)) => (x, y),
-        (Run::Recording(x), Run::Recording(y)) => (x.impulses, y.impulses),
-        (Run::Trace(trace), Run::Recording(rec)) => align(trace, &rec, &mut notes),
-        (Run::Recording(rec), Run::Trace(trace)) => {
+        (RunFile::Trace(x), RunFile::Trace(y)) => (x, y),
+        (RunFile::Recording(x), RunFile::Recording(y)) => (x.impulses, y.impulses),
+        (RunFile::Trace(trace), RunFile::Recording(rec)) => align(trace, &rec, &mut notes),
+        (RunFile::Recording(rec), RunFile::Trace(trace)) => {
             let (t, r) = align(trace, &rec, &mut notes);
             (r, t)
         }
     };
-    let keys: BTreeSet<(u64, &str)> = ta
-        .samples
-        .iter()
-        .chain(&tb.samples)
-        .map(|s| (s.step, s.channel.as_str()))
-        .collect();
-    Ok(Comparison {
-        impulse_samples: keys.len(),
-        impulses: ta.compare(&tb, options.tolerance),
+    Ok(RunDiff {
+        impulse_samples: ta.compared_samples(&tb),
+        impulses: ta.first_difference(&tb, options.tolerance),
         states,
         notes,
     })
@@ -241,10 +242,10 @@ fn align(
     )
 }
 
-/// Compares the states of `other` with those of `reference` at the steps both recorded:
-/// `Ok(steps compared)` when every `q` and `u` agrees within `abs_tolerance` and both
-/// recorded the same steps.
-pub fn compare_states(
+/// How the recorded states of `other` differ from those of `reference` at the steps both
+/// recorded: `Ok(steps compared)` when every `q` and `u` agrees within `abs_tolerance` and
+/// both recorded the same steps.
+pub fn diff_recorded_states(
     reference: &McapRecording,
     other: &McapRecording,
     abs_tolerance: f64,

@@ -3,7 +3,7 @@
 //! (docs/recording.md). Every file is written atomically ([`AtomicFile`]).
 //!
 //! The crate also reads its MCAP recordings back ([`McapRecording`]) and compares two
-//! recordings or impulse traces ([`compare_files`], used by `hopsim compare`).
+//! recordings or impulse traces ([`diff_run_files`], used by `hopsim compare`).
 
 mod compare;
 mod csv;
@@ -15,7 +15,7 @@ mod mcap_write;
 mod rerun_sink;
 
 pub use compare::{
-    compare_files, compare_states, CompareOptions, Comparison, StateDifference, StateMismatch,
+    diff_recorded_states, diff_run_files, RunDiff, RunDiffOptions, StateDifference, StateMismatch,
 };
 pub use csv::CsvRecorder;
 pub use frame::{

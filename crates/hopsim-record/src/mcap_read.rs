@@ -6,9 +6,18 @@ use crate::mcap_format::{
 };
 use crate::{Event, EventKind, RecordError};
 use hopsim_step::{ImpulseSample, ImpulseTrace};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::{MessageStream, Summary};
 use std::collections::BTreeMap;
+use std::io::{Error, ErrorKind, Read};
 use std::path::Path;
+
+/// Largest recording [`McapRecording::read`] reads, bytes (2 GiB; the whole file is held in
+/// memory).
+pub const MAX_RECORDING_BYTES: u64 = 2 << 30;
+/// Largest record (or decompressed chunk record) accepted, bytes: a corrupted length field
+/// is an error, not a huge allocation.
+const MAX_RECORD_BYTES: usize = 256 << 20;
 
 /// Channel name of brake impulses in a trace read from MCAP (from `/hopsim/events`).
 pub const BRAKE_CHANNEL: &str = "brake";
@@ -66,18 +75,22 @@ pub struct McapRecording {
 }
 
 impl McapRecording {
-    /// Reads the recording at `path`; errors name the file and what is wrong with it.
+    /// Reads the recording at `path` (at most [`MAX_RECORDING_BYTES`]); errors name the
+    /// file and what is wrong with it.
     pub fn read(path: &Path) -> Result<Self, RecordError> {
-        let bytes = std::fs::read(path).map_err(|e| RecordError::io(path, e))?;
+        let bytes = read_input(path, MAX_RECORDING_BYTES)?;
         Self::from_bytes(&bytes, path)
     }
 
-    /// Reads a recording held in memory; `origin` names it in errors.
+    /// Reads a recording held in memory; `origin` names it in errors. The whole file is
+    /// checked first: its chunk, data-section and summary CRCs, its records, and that
+    /// nothing follows its closing magic; any failure is a "corrupt MCAP file" error.
     pub fn from_bytes(bytes: &[u8], origin: &Path) -> Result<Self, RecordError> {
         let fail = |message: String| RecordError::format(origin, message);
         if !bytes.starts_with(mcap::MAGIC) {
             return Err(fail("not an MCAP file (no MCAP magic at the start)".into()));
         }
+        validate(bytes).map_err(|e| fail(format!("corrupt MCAP file: {e}")))?;
         let summary = Summary::read(bytes)
             .map_err(|e| fail(format!("unreadable MCAP file: {e}")))?
             .ok_or_else(|| {
@@ -108,8 +121,9 @@ impl McapRecording {
             impulses: ImpulseTrace::default(),
             events: Vec::new(),
         };
-        let stream =
-            MessageStream::new(bytes).map_err(|e| fail(format!("unreadable MCAP file: {e}")))?;
+        let options = mcap::read::Options::ValidateChunkCrcs.into();
+        let stream = MessageStream::new_with_options(bytes, options)
+            .map_err(|e| fail(format!("unreadable MCAP file: {e}")))?;
         for message in stream {
             let message = message.map_err(|e| fail(format!("unreadable MCAP file: {e}")))?;
             let topic = message.channel.topic.as_str();
@@ -170,6 +184,118 @@ impl McapRecording {
     pub fn recorded_steps(&self) -> impl Iterator<Item = u64> + '_ {
         self.states.iter().map(|s| s.step)
     }
+}
+
+/// Reads the whole MCAP file `bytes` as a stream of records, checking every CRC the file
+/// has (chunks, data section, summary section; attachments are checked when parsed), the
+/// closing magic, and that no byte follows it (a file concatenated to itself, or
+/// trailing garbage).
+fn validate(bytes: &[u8]) -> Result<(), String> {
+    let options = LinearReaderOptions::default()
+        .with_validate_chunk_crcs(true)
+        .with_validate_data_section_crc(true)
+        .with_validate_summary_section_crc(true)
+        .with_check_finishes_after_end_magic(true)
+        .with_record_length_limit(MAX_RECORD_BYTES);
+    let mut reader = LinearReader::new_with_options(options);
+    let mut rest = bytes;
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| e.to_string())? {
+            LinearReadEvent::ReadRequest(n) => {
+                let n = n.min(rest.len());
+                reader.insert(n).copy_from_slice(&rest[..n]);
+                reader.notify_read(n);
+                rest = &rest[n..];
+            }
+            LinearReadEvent::Record { opcode, data } => {
+                // mcap 0.26 `parse_record` slices out of bounds (panics) on an attachment
+                // record shorter than its header and CRC: check that first.
+                if opcode == mcap::records::op::ATTACHMENT && !attachment_fits(data) {
+                    return Err(format!(
+                        "attachment record of {} bytes is shorter than its header",
+                        data.len()
+                    ));
+                }
+                // Parsing checks each record's own structure (and an attachment's CRC).
+                mcap::parse_record(opcode, data).map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether an attachment record's body holds its header (log and create time, name and
+/// media type as length-prefixed strings, data length) and the trailing CRC.
+fn attachment_fits(body: &[u8]) -> bool {
+    let length_at = |at: usize| -> Option<usize> {
+        let b = body.get(at..at.checked_add(4)?)?;
+        usize::try_from(u32::from_le_bytes(b.try_into().ok()?)).ok()
+    };
+    let header_and_crc = || -> Option<usize> {
+        let media_at = 20usize.checked_add(length_at(16)?)?;
+        media_at
+            .checked_add(4)?
+            .checked_add(length_at(media_at)?)?
+            .checked_add(8 + 4)
+    };
+    header_and_crc().is_some_and(|len| len <= body.len())
+}
+
+/// The bytes of the input file at `path`: at most `limit`. A regular file above the limit
+/// is refused unread; any other input (a pipe, a device) is read in blocks up to the
+/// limit, and refused at once when it neither starts with the MCAP magic nor is text (a
+/// NUL byte), so `/dev/zero` or `/dev/urandom` costs one block.
+pub(crate) fn read_input(path: &Path, limit: u64) -> Result<Vec<u8>, RecordError> {
+    let io = |e| RecordError::io(path, e);
+    let too_large = || {
+        io(Error::new(
+            ErrorKind::FileTooLarge,
+            format!(
+                "the file is larger than the {} MiB limit of recordings",
+                limit >> 20
+            ),
+        ))
+    };
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    if file
+        .metadata()
+        .is_ok_and(|m| m.is_file() && m.len() > limit)
+    {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    let mut block = vec![0u8; 1 << 16];
+    let mut binary = None;
+    let mut checked = 0;
+    loop {
+        let n = match file.read(&mut block) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+            Err(e) => return Err(io(e)),
+        };
+        if (bytes.len() + n) as u64 > limit {
+            return Err(too_large());
+        }
+        bytes.extend_from_slice(&block[..n]);
+        if binary.is_none() && bytes.len() >= mcap::MAGIC.len() {
+            binary = Some(bytes.starts_with(mcap::MAGIC));
+        }
+        if binary == Some(false) {
+            if let Some(i) = bytes[checked..].iter().position(|&b| b == 0) {
+                return Err(io(Error::new(
+                    ErrorKind::InvalidData,
+                    format!(
+                        "neither an MCAP file (no MCAP magic at the start) nor text (NUL byte \
+                         at offset {})",
+                        checked + i
+                    ),
+                )));
+            }
+            checked = bytes.len();
+        }
+    }
+    Ok(bytes)
 }
 
 /// The values of `map` in the order of `names`.

@@ -5,8 +5,8 @@ mod common;
 
 use common::{events, feed, frames, info, OwnedFrame};
 use hopsim_record::{
-    compare_files, CompareOptions, ImpulseSample, ImpulseTrace, McapRecorder, McapRecording,
-    Recorder, StateMismatch, BRAKE_CHANNEL,
+    diff_run_files, ImpulseSample, ImpulseTrace, McapRecorder, McapRecording, Recorder,
+    RunDiffOptions, StateMismatch, BRAKE_CHANNEL,
 };
 use std::path::{Path, PathBuf};
 
@@ -16,10 +16,10 @@ fn record(path: &Path, frames: &[OwnedFrame]) {
     recorder.finish().unwrap();
 }
 
-fn with_states() -> CompareOptions {
-    CompareOptions {
+fn with_states() -> RunDiffOptions {
+    RunDiffOptions {
         state_tolerance: Some(1e-9),
-        ..CompareOptions::default()
+        ..RunDiffOptions::default()
     }
 }
 
@@ -53,7 +53,7 @@ fn runs() -> Runs {
 fn identical_recordings_agree() {
     let r = runs();
     let copy = r.other(&frames(12));
-    let c = compare_files(&r.reference, &copy, &with_states()).unwrap();
+    let c = diff_run_files(&r.reference, &copy, &with_states()).unwrap();
     assert!(c.agree(), "{c}");
     let rec = McapRecording::read(&r.reference).unwrap();
     assert_eq!(c.impulse_samples, rec.impulses.samples.len());
@@ -74,7 +74,7 @@ fn a_changed_impulse_is_named_with_step_time_and_contact() {
     changed[4].contacts[0].impulse_tangent *= 1.01;
     changed[7].contacts[0].impulse_normal = 0.5;
     let other = r.other(&changed);
-    let c = compare_files(&r.reference, &other, &CompareOptions::default()).unwrap();
+    let c = diff_run_files(&r.reference, &other, &RunDiffOptions::default()).unwrap();
     assert!(!c.agree());
     let d = c.impulses.as_ref().unwrap();
     assert_eq!(
@@ -95,7 +95,7 @@ fn a_changed_state_is_named() {
     let mut changed = frames(12);
     changed[3].u[2] += 1e-6;
     let other = r.other(&changed);
-    let c = compare_files(&r.reference, &other, &with_states()).unwrap();
+    let c = diff_run_files(&r.reference, &other, &with_states()).unwrap();
     assert!(c.impulses.is_none() && !c.agree());
     let Some(Err(StateMismatch::Value(d))) = &c.states else {
         panic!("expected a state difference: {c}")
@@ -103,7 +103,7 @@ fn a_changed_state_is_named() {
     assert_eq!((d.step, d.variable.as_str(), d.count), (31, "u.phi", 1));
     // Without --states the same runs agree.
     assert!(
-        compare_files(&r.reference, &other, &CompareOptions::default())
+        diff_run_files(&r.reference, &other, &RunDiffOptions::default())
             .unwrap()
             .agree()
     );
@@ -113,7 +113,7 @@ fn a_changed_state_is_named() {
 fn a_shorter_recording_differs_in_its_steps() {
     let r = runs();
     let other = r.other(&frames(10));
-    let c = compare_files(&r.reference, &other, &with_states()).unwrap();
+    let c = diff_run_files(&r.reference, &other, &with_states()).unwrap();
     assert_eq!(
         c.states,
         Some(Err(StateMismatch::Steps {
@@ -153,12 +153,12 @@ fn a_trace_is_compared_at_the_recorded_steps_without_locks() {
     let path = r.dir.join("trace.csv");
     std::fs::write(&path, trace.to_csv()).unwrap();
     for (a, b) in [(&path, &r.reference), (&r.reference, &path)] {
-        let c = compare_files(a, b, &CompareOptions::default()).unwrap();
+        let c = diff_run_files(a, b, &RunDiffOptions::default()).unwrap();
         assert!(c.agree(), "{c}");
         assert!(c.notes[0].contains("only the 12 recorded steps"), "{c}");
     }
     // States need recordings on both sides.
-    let e = compare_files(&path, &r.reference, &with_states()).unwrap_err();
+    let e = diff_run_files(&path, &r.reference, &with_states()).unwrap_err();
     assert!(e.to_string().contains("trace.csv") && e.to_string().contains("--states"));
 }
 
@@ -180,7 +180,7 @@ fn unreadable_inputs_are_named() {
         (&fake, "not an MCAP file"),
         (&r.dir.join("missing.csv"), "No such file"),
     ] {
-        let e = compare_files(&r.reference, path, &CompareOptions::default())
+        let e = diff_run_files(&r.reference, path, &RunDiffOptions::default())
             .unwrap_err()
             .to_string();
         assert!(e.starts_with(&path.display().to_string()), "{e}");

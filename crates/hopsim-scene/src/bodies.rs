@@ -1,17 +1,33 @@
 //! `[[bodies]]`, `[[shapes]]` and `[[springs]]`: the multibody model (physics.md §1).
 
 use crate::environment::read_material;
-use crate::error::{suggestion, SceneError};
+use crate::error::{number, short_list, suggestion, SceneError};
 use crate::reader::{Num, Table};
+use crate::tree::Origin;
 use hopsim_model::{
     Body, ContactMaterial, Joint, JointCoordinate, Shape, ShapeInstance, Spring, Vec2,
 };
+use std::collections::{HashMap, HashSet};
+
+/// Most bodies a scene may have: the model's per-body Jacobians are dense (`3B × n` with
+/// `n = B + 2`), so memory grows with the square of the body count (24 MB at this limit;
+/// 20 000 bodies would need 9.6 GB).
+pub const MAX_BODIES: usize = 1000;
+/// Most shapes a scene may have.
+pub const MAX_SHAPES: usize = 1000;
+/// Most springs a scene may have.
+pub const MAX_SPRINGS: usize = 1000;
+/// Most names listed in a message.
+const LISTED: usize = 12;
 
 /// Names of things a scene refers to (bodies, shapes), with their indices.
 pub(crate) struct Names {
     /// What the names are, for messages: singular and plural ("body", "bodies").
     what: (&'static str, &'static str),
     names: Vec<String>,
+    index: HashMap<String, usize>,
+    /// Where each name was written, and the dotted key holding it.
+    written: Vec<(Origin, String)>,
 }
 
 impl Names {
@@ -19,21 +35,50 @@ impl Names {
         Self {
             what,
             names: Vec::new(),
+            index: HashMap::new(),
+            written: Vec::new(),
         }
     }
 
-    /// Registers `name` read from `key` of `table`; duplicates are errors.
+    /// Registers `name` read from `key` of `table`; empty names, names that would break
+    /// the CSV files and channels they label, and duplicates are errors. When an override
+    /// made the clash, the error names the override.
     pub fn add(&mut self, table: &Table<'_>, key: &str, name: &str) -> Result<usize, SceneError> {
-        if self.names.iter().any(|n| n == name) {
-            return Err(table.error_at_key(
-                key,
-                format!(
-                    "a {} named '{name}' already exists; names must be unique",
-                    self.what.0
+        check_name(table, key, name)?;
+        let origin = table.origin_of(key);
+        if let Some(&first) = self.index.get(name) {
+            let (first_origin, first_key) = &self.written[first];
+            let unique = format!(
+                "a {} named '{name}' already exists; names must be unique",
+                self.what.0
+            );
+            let by_override = |o: &Origin| matches!(o, Origin::Override(_));
+            return Err(match (by_override(first_origin), by_override(&origin)) {
+                (true, false) => SceneError::Invalid {
+                    location: table.locate(first_origin),
+                    key: first_key.clone(),
+                    message: format!(
+                        "a {} named '{name}' already exists at {} ({}); names must be unique",
+                        self.what.0,
+                        table.locate(&origin),
+                        table.key_path(key)
+                    ),
+                },
+                (false, true) => table.error_at_key(
+                    key,
+                    format!(
+                        "a {} named '{name}' already exists at {} ({first_key}); names must be \
+                         unique",
+                        self.what.0,
+                        table.locate(first_origin)
+                    ),
                 ),
-            ));
+                _ => table.error_at_key(key, unique),
+            });
         }
+        self.index.insert(name.to_string(), self.names.len());
         self.names.push(name.to_string());
+        self.written.push((origin, table.key_path(key)));
         Ok(self.names.len() - 1)
     }
 
@@ -45,10 +90,15 @@ impl Names {
 
     /// Index of `name` (read from `key` of `table`).
     pub fn index(&self, table: &Table<'_>, key: &str, name: &str) -> Result<usize, SceneError> {
-        self.names.iter().position(|n| n == name).ok_or_else(|| {
+        self.index.get(name).copied().ok_or_else(|| {
             let hint = suggestion(name, self.names.iter().map(String::as_str));
             let known = if hint.is_empty() {
-                format!("; the {} are: {}", self.what.1, self.names.join(", "))
+                format!(
+                    "; the {} are: {}{}",
+                    self.what.1,
+                    short_list(self.names.iter().map(String::as_str), LISTED),
+                    self.renamed()
+                )
             } else {
                 hint
             };
@@ -59,9 +109,134 @@ impl Names {
         })
     }
 
+    /// `" (--set … changed bodies[0].name)"` when an override set one of the names (a
+    /// name the file refers to may be the one it changed), else nothing.
+    fn renamed(&self) -> String {
+        self.written
+            .iter()
+            .find_map(|(origin, key)| match origin {
+                Origin::Override(text) => Some(format!(" ({text} changed {key})")),
+                Origin::File(_) => None,
+            })
+            .unwrap_or_default()
+    }
+
+    /// Index of `name`, if registered.
+    pub fn find(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
+    }
+
     pub fn get(&self, i: usize) -> &str {
         &self.names[i]
     }
+}
+
+/// A name labels files, CSV columns and channels: it must not be empty (or blank) and must
+/// not hold commas or control characters.
+fn check_name(table: &Table<'_>, key: &str, name: &str) -> Result<(), SceneError> {
+    if name.trim().is_empty() {
+        return Err(table.error_at_key(key, format!("expected a non-empty name, found \"{name}\"")));
+    }
+    if name.chars().any(|c| c == ',' || c.is_control()) {
+        return Err(table.error_at_key(
+            key,
+            format!(
+                "expected a name without commas or control characters (names label CSV \
+                 columns), found {name:?}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// At most `max` tables of `key`, else an error at the first one too many.
+pub(crate) fn check_count(
+    tables: &[Table<'_>],
+    max: usize,
+    what: &str,
+    why: &str,
+) -> Result<(), SceneError> {
+    match tables.get(max) {
+        None => Ok(()),
+        Some(extra) => Err(extra.error_here(format!(
+            "a scene may have at most {max} {what}{why}; found {}",
+            tables.len()
+        ))),
+    }
+}
+
+/// Why `parent` (the name `b`'s table gives) is not an earlier body: it is the body
+/// itself, a later body (with the cycle it closes, if any), or no body at all.
+fn parent_error(
+    tables: &[Table<'_>],
+    b: usize,
+    parent: &str,
+    names: &Names,
+    all: &HashMap<&str, usize>,
+    parents: &[Option<&str>],
+) -> SceneError {
+    let t = &tables[b];
+    let own = names.get(b);
+    if parent == own {
+        return t.error_at_key("parent", "a body cannot be its own parent");
+    }
+    let Some(&later) = all.get(parent) else {
+        // Neither earlier nor later: a typo. Suggest among the other bodies.
+        let others = all.keys().copied().filter(|n| *n != own);
+        let hint = suggestion(parent, others);
+        let known = if hint.is_empty() {
+            let mut sorted: Vec<(&str, usize)> = all.iter().map(|(n, &i)| (*n, i)).collect();
+            sorted.sort_by_key(|&(_, i)| i);
+            format!(
+                "; the bodies are: {}{}",
+                short_list(sorted.iter().map(|&(n, _)| n).filter(|n| *n != own), LISTED),
+                names.renamed()
+            )
+        } else {
+            hint
+        };
+        return t.error_at_key(
+            "parent",
+            format!("there is no body named '{parent}'{known}"),
+        );
+    };
+    // Follow the later body's parents: back to this body is a cycle.
+    let mut chain = vec![own, parent];
+    let mut seen = HashSet::from([b, later]);
+    let mut at = later;
+    while let Some(next) = parents[at] {
+        let Some(&i) = all.get(next) else { break };
+        chain.push(next);
+        if i == b {
+            return t.error_at_key(
+                "parent",
+                format!(
+                    "cycle {}: a body cannot hang on its own descendants",
+                    chain.join(" → ")
+                ),
+            );
+        }
+        if !seen.insert(i) {
+            // A cycle among later bodies: report it where it starts.
+            let start = chain.iter().position(|n| *n == next).unwrap_or(0);
+            return tables[i].error_at_key(
+                "parent",
+                format!(
+                    "cycle {}: a body cannot hang on its own descendants",
+                    chain[start..].join(" → ")
+                ),
+            );
+        }
+        at = i;
+    }
+    t.error_at_key(
+        "parent",
+        format!(
+            "parent '{parent}' is defined after '{own}' (bodies[{later}] at {}): list parents \
+             first",
+            t.locate(&tables[later].origin_of("name"))
+        ),
+    )
 }
 
 /// The bodies and the names of the generalised coordinates (`x, y, phi`, then one per
@@ -77,13 +252,29 @@ pub(crate) fn read_bodies(
             "a scene needs at least one [[bodies]] table (the first is the floating base)",
         ));
     }
+    check_count(
+        tables,
+        MAX_BODIES,
+        "bodies",
+        " (the model's Jacobians grow with the square of the body count)",
+    )?;
+    // Every body's name and parent, to tell a parent listed later from a missing one.
+    let mut all: HashMap<&str, usize> = HashMap::new();
+    let mut parents = Vec::with_capacity(tables.len());
+    for (b, t) in tables.iter().enumerate() {
+        if let Ok(Some(name)) = t.opt_str("name") {
+            all.entry(name).or_insert(b);
+        }
+        parents.push(t.opt_str("parent").ok().flatten());
+    }
     let mut bodies = Vec::with_capacity(tables.len());
     let mut coordinates: Vec<String> = ["x", "y", "phi"].map(String::from).to_vec();
+    let mut taken: HashSet<String> = coordinates.iter().cloned().collect();
     for (b, t) in tables.iter().enumerate() {
         let name = t.str("name")?;
         names.add(t, "name", name)?;
-        let mass = t.f64("mass", Num::positive("kg"))?;
-        let inertia = t.f64("inertia", Num::positive("kg m²"))?;
+        let mass = t.f64("mass", Num::positive("kg").at_least(1e-9))?;
+        let inertia = t.f64("inertia", Num::positive("kg m²").at_least(1e-12))?;
         let parent = t.opt_str("parent")?;
         let joint = match (b, parent) {
             (0, None) => None,
@@ -99,15 +290,15 @@ pub(crate) fn read_bodies(
                     format!(
                         "missing; every body after the first hangs on a revolute joint on a \
                          parent body (one of: {})",
-                        (0..b).map(|i| names.get(i)).collect::<Vec<_>>().join(", ")
+                        short_list((0..b).map(|i| names.get(i)), LISTED)
                     ),
                 ))
             }
             (_, Some(p)) => {
-                let parent = names.index(t, "parent", p)?;
-                if parent == b {
-                    return Err(t.error_at_key("parent", "a body cannot be its own parent"));
-                }
+                let parent = match names.find(p) {
+                    Some(i) if i < b => i,
+                    _ => return Err(parent_error(tables, b, p, names, &all, &parents)),
+                };
                 let coordinate =
                     match t.choice("coordinate", &["relative", "absolute"], Some("relative"))? {
                         "absolute" => JointCoordinate::Absolute,
@@ -117,7 +308,8 @@ pub(crate) fn read_bodies(
                     Some(c) => c.to_string(),
                     None => format!("theta_{name}"),
                 };
-                check_coordinate_name(t, &coordinate_name, &coordinates)?;
+                check_coordinate_name(t, &coordinate_name, &taken, &coordinates)?;
+                taken.insert(coordinate_name.clone());
                 coordinates.push(coordinate_name);
                 Some(Joint {
                     parent,
@@ -159,6 +351,7 @@ pub(crate) fn read_shapes(
     shapes: &mut Names,
     base_material: ContactMaterial,
 ) -> Result<Vec<ShapeSpec>, SceneError> {
+    check_count(tables, MAX_SHAPES, "shapes", "")?;
     let mut out = Vec::with_capacity(tables.len());
     for t in tables {
         let body = bodies.resolve(t, "body")?;
@@ -187,22 +380,25 @@ pub(crate) fn read_shapes(
 
 fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
     let center = || Ok::<_, SceneError>(vec2(t.vec2("center", Some([0.0; 2]), "m")?));
+    let length = Num::positive("m").coordinate();
     Ok(match kind {
         "circle" => Shape::Circle {
             center: center()?,
-            radius: t.f64("radius", Num::positive("m"))?,
+            radius: t.f64("radius", length)?,
         },
         "arc" => {
             let center = center()?;
-            let radius = t.f64("radius", Num::positive("m"))?;
-            let start = t.f64("start", Num::any("rad"))?;
-            let end = t.f64("end", Num::any("rad"))?;
+            let radius = t.f64("radius", length)?;
+            let start = t.f64("start", Num::any("rad").coordinate())?;
+            let end = t.f64("end", Num::any("rad").coordinate())?;
             if !(end > start && end - start <= std::f64::consts::TAU) {
                 return Err(t.error_at_key(
                     "end",
                     format!(
                         "the arc must run counter-clockwise from start to end with \
-                         0 < end - start <= 2π; found start = {start}, end = {end}"
+                         0 < end - start <= 2π; found start = {}, end = {}",
+                        number(start),
+                        number(end)
                     ),
                 ));
             }
@@ -215,18 +411,15 @@ fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
         }
         "ellipse" => Shape::Ellipse {
             center: center()?,
-            semi_x: t.f64("semi_x", Num::positive("m"))?,
-            semi_y: t.f64("semi_y", Num::positive("m"))?,
+            semi_x: t.f64("semi_x", length)?,
+            semi_y: t.f64("semi_y", length)?,
         },
         "point" => Shape::Point {
             position: vec2(t.vec2("position", None, "m")?),
         },
         "box" => {
             let c = center()?;
-            let (w, h) = (
-                t.f64("half_width", Num::positive("m"))?,
-                t.f64("half_height", Num::positive("m"))?,
-            );
+            let (w, h) = (t.f64("half_width", length)?, t.f64("half_height", length)?);
             Shape::Polygon {
                 vertices: [(-w, -h), (w, -h), (w, h), (-w, h)]
                     .map(|(x, y)| c + Vec2::new(x, y))
@@ -245,7 +438,9 @@ fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
     })
 }
 
-/// A polygon must have at least three vertices, counter-clockwise, strictly convex.
+/// A polygon must have at least three vertices, counter-clockwise, strictly convex, and
+/// wind around its inside once (a star's corners all turn left, yet it crosses itself):
+/// the same test as the model's, so the model never rejects a polygon the scene accepted.
 fn check_convex_ccw(t: &Table<'_>, v: &[Vec2]) -> Result<(), SceneError> {
     if v.len() < 3 {
         return Err(t.error_at_key(
@@ -254,11 +449,13 @@ fn check_convex_ccw(t: &Table<'_>, v: &[Vec2]) -> Result<(), SceneError> {
         ));
     }
     let n = v.len();
+    let mut winding = 0.0;
     for i in 0..n {
         let (a, b, c) = (v[i], v[(i + 1) % n], v[(i + 2) % n]);
         let e1 = b - a;
         let e2 = c - b;
-        if e1.x * e2.y - e1.y * e2.x <= 0.0 {
+        let cross = e1.x * e2.y - e1.y * e2.x;
+        if cross <= 0.0 || !cross.is_finite() {
             return Err(t.error_at_key(
                 "vertices",
                 format!(
@@ -268,6 +465,18 @@ fn check_convex_ccw(t: &Table<'_>, v: &[Vec2]) -> Result<(), SceneError> {
                 ),
             ));
         }
+        winding += cross.atan2(e1.dot(&e2));
+    }
+    let turns = winding / std::f64::consts::TAU;
+    if (winding - std::f64::consts::TAU).abs() >= 1e-6 {
+        return Err(t.error_at_key(
+            "vertices",
+            format!(
+                "the polygon intersects itself: its edges wind {} times around its inside; \
+                 a convex polygon's vertices go once around it, counter-clockwise",
+                turns.round()
+            ),
+        ));
     }
     Ok(())
 }
@@ -276,6 +485,7 @@ pub(crate) fn read_springs(
     tables: &[Table<'_>],
     bodies: &Names,
 ) -> Result<Vec<Spring>, SceneError> {
+    check_count(tables, MAX_SPRINGS, "springs", "")?;
     let mut out = Vec::with_capacity(tables.len());
     let mut names = Names::new(("spring", "springs"));
     for (i, t) in tables.iter().enumerate() {
@@ -291,7 +501,7 @@ pub(crate) fn read_springs(
             body_b: bodies.resolve(t, "body_b")?,
             point_b: vec2(t.vec2("point_b", Some([0.0; 2]), "m")?),
             stiffness: t.f64("stiffness", Num::non_negative("N/m"))?,
-            rest_length: t.f64("rest_length", Num::non_negative("m"))?,
+            rest_length: t.f64("rest_length", Num::non_negative("m").coordinate())?,
             damping: t.f64_or("damping", 0.0, Num::non_negative("N s/m"))?,
             tension_only: t.bool_or("tension_only", false)?,
         };
@@ -311,7 +521,12 @@ fn vec2(v: [f64; 2]) -> Vec2 {
 /// A joint coordinate's name labels recorded columns and fields: it must be an identifier
 /// (letters, digits, `_`, not starting with a digit) and differ from every other
 /// coordinate's name (`x`, `y`, `phi` included).
-fn check_coordinate_name(t: &Table<'_>, name: &str, taken: &[String]) -> Result<(), SceneError> {
+fn check_coordinate_name(
+    t: &Table<'_>,
+    name: &str,
+    taken: &HashSet<String>,
+    in_order: &[String],
+) -> Result<(), SceneError> {
     let identifier = name
         .chars()
         .next()
@@ -325,12 +540,12 @@ fn check_coordinate_name(t: &Table<'_>, name: &str, taken: &[String]) -> Result<
             ),
         ));
     }
-    if taken.iter().any(|c| c == name) {
+    if taken.contains(name) {
         return Err(t.error_at_key(
             "coordinate_name",
             format!(
                 "the coordinate '{name}' already exists (coordinates so far: {}); names must be unique",
-                taken.join(", ")
+                short_list(in_order.iter().map(String::as_str), LISTED)
             ),
         ));
     }

@@ -1,8 +1,8 @@
 //! `[controller]`: which controller runs and its parameters (physics.md §5.3, §5.4).
 
 use crate::bodies::{Names, ShapeSpec};
-use crate::error::SceneError;
-use crate::reader::{Num, Table};
+use crate::error::{number, SceneError};
+use crate::reader::{Num, Table, MAX_MAGNITUDE};
 use hopsim_control::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig};
 use hopsim_model::Body;
 
@@ -46,7 +46,10 @@ pub(crate) fn read_controller(
             let pulse_duration = c.f64("pulse_duration", Num::positive("s"))?;
             let period = match (
                 c.opt_f64("period", Num::positive("s"))?,
-                c.opt_f64("frequency", Num::positive("Hz"))?,
+                c.opt_f64(
+                    "frequency",
+                    Num::positive("Hz").at_least(1.0 / MAX_MAGNITUDE),
+                )?,
             ) {
                 (Some(p), None) => p,
                 (None, Some(f)) => 1.0 / f,
@@ -66,7 +69,9 @@ pub(crate) fn read_controller(
                 return Err(c.error_at_key(
                     "pulse_duration",
                     format!(
-                        "two pulses of {pulse_duration} s do not fit in the period of {period} s"
+                        "two pulses of {} s do not fit in the period of {} s",
+                        number(pulse_duration),
+                        number(period)
                     ),
                 ));
             }

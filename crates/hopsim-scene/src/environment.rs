@@ -7,14 +7,14 @@ use hopsim_model::{ContactMaterial, Terrain};
 /// Reads the terrain and the default contact material (physics.md §4: `μ`, `ε_N`, `ε_T`).
 pub(crate) fn read_environment(env: &Table<'_>) -> Result<(Terrain, ContactMaterial), SceneError> {
     let terrain = match env.choice("terrain", &["flat", "incline", "step"], Some("flat"))? {
-        "flat" => Terrain::flat(env.f64_or("height", 0.0, Num::any("m"))?),
+        "flat" => Terrain::flat(env.f64_or("height", 0.0, Num::any("m").coordinate())?),
         "incline" => {
             let half_pi = std::f64::consts::FRAC_PI_2;
             Terrain::incline(env.f64("angle", Num::range(-half_pi, half_pi, "rad"))?)
         }
         _ => Terrain::step(
-            env.f64("step_x", Num::any("m"))?,
-            env.f64("step_height", Num::positive("m"))?,
+            env.f64("step_x", Num::any("m").coordinate())?,
+            env.f64("step_height", Num::positive("m").coordinate())?,
         ),
     };
     let material = read_material(env, ContactMaterial::default())?;

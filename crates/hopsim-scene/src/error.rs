@@ -113,6 +113,31 @@ impl Source<'_> {
     }
 }
 
+/// A number for messages: the shortest text that reads back as `v` (at most 17
+/// significant digits), in exponent form for very large or very small magnitudes, so
+/// `1e308` is not printed with 309 digits.
+pub fn number(v: f64) -> String {
+    let magnitude = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e16).contains(&magnitude) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// At most `max` of `items` joined by ", ", then "… (N more)".
+pub fn short_list<'a>(items: impl IntoIterator<Item = &'a str>, max: usize) -> String {
+    let items: Vec<&str> = items.into_iter().collect();
+    if items.len() <= max {
+        return items.join(", ");
+    }
+    format!(
+        "{}, … ({} more)",
+        items[..max].join(", "),
+        items.len() - max
+    )
+}
+
 /// The candidate closest to `word` by edit distance, if it is close enough to be a likely
 /// typo (distance ≤ max(1, len/3)).
 pub fn did_you_mean<'a>(
@@ -174,6 +199,36 @@ mod tests {
         assert_eq!(did_you_mean("Mass", keys), Some("mass"));
         assert_eq!(did_you_mean("nmae", keys), Some("name"));
         assert_eq!(did_you_mean("colour", keys), None);
+    }
+
+    #[test]
+    fn numbers_in_messages_are_short_and_exact() {
+        assert_eq!(number(1e308), "1e308");
+        assert_eq!(number(-1.5e-308), "-1.5e-308");
+        assert_eq!(number(0.1), "0.1");
+        assert_eq!(number(-0.431), "-0.431");
+        assert_eq!(number(30.0), "30");
+        assert_eq!(number(0.0002), "0.0002");
+        assert_eq!(number(2e-5), "2e-5");
+        assert_eq!(number(f64::INFINITY), "inf");
+        assert_eq!(number(1.0 / 3.0), "0.3333333333333333");
+        for v in [
+            1e308,
+            1.0 / 3.0,
+            2e-5,
+            123456789.125,
+            f64::MIN_POSITIVE,
+            5e-324,
+        ] {
+            assert!(number(v).len() <= 24, "{v}");
+            assert_eq!(number(v).parse::<f64>().unwrap(), v);
+        }
+    }
+
+    #[test]
+    fn long_lists_are_cut() {
+        assert_eq!(short_list(["a", "b"], 3), "a, b");
+        assert_eq!(short_list(["a", "b", "c", "d"], 2), "a, b, … (2 more)");
     }
 
     #[test]

@@ -18,7 +18,10 @@ mod scene;
 mod settings;
 mod tree;
 
+pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
 pub use overrides::Override;
-pub use scene::{load, parse, Scene};
-pub use settings::{Meta, Settings};
+pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
+pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
+pub use settings::{Meta, Settings, MIN_DT};
+pub use tree::MAX_DEPTH;

@@ -104,6 +104,7 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
                 };
                 let entry = &mut entries[pos];
                 if last {
+                    check_replaceable(&entry.node, &value, &ov.key).map_err(&fail)?;
                     entry.key_origin = origin.clone();
                     entry.node = value.clone();
                 }
@@ -125,15 +126,21 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
                     )));
                 };
                 if last {
+                    check_replaceable(item, &value, &ov.key).map_err(&fail)?;
                     *item = value.clone();
                 }
                 item
             }
             other => {
+                // Name the override that put the value there, if one did.
+                let set_by = match &node.origin {
+                    Origin::Override(by) if *by != text => format!(" (set by {by})"),
+                    _ => String::new(),
+                };
                 return Err(fail(format!(
-                    "{here} is {}, not a table: cannot set '{seg}' inside it",
+                    "{here} is {}{set_by}, not a table: cannot set '{seg}' inside it",
                     other.describe()
-                )))
+                )));
             }
         };
         if !walked.is_empty() {
@@ -142,6 +149,35 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
         walked.push_str(seg);
     }
     Ok(())
+}
+
+/// A value may replace a value, not a table or an array of tables: a scene's sections
+/// and `[[bodies]]` are set key by key.
+fn check_replaceable(old: &Node, new: &Node, key: &str) -> Result<(), String> {
+    let holds_tables = |n: &Node| match &n.kind {
+        Kind::Table(_) => true,
+        Kind::Array(items) => items.iter().any(|i| matches!(i.kind, Kind::Table(_))),
+        _ => false,
+    };
+    if !holds_tables(old) || holds_tables(new) {
+        return Ok(());
+    }
+    let what = match &old.kind {
+        Kind::Table(_) => "a table",
+        _ => "an array of tables",
+    };
+    let example = match &old.kind {
+        Kind::Table(entries) => entries
+            .first()
+            .map(|e| format!(", e.g. --set {key}.{}=…", e.key))
+            .unwrap_or_default(),
+        _ => format!(", e.g. --set {key}.0.<key>=…"),
+    };
+    Err(format!(
+        "'{key}' is {what} in the scene and cannot be replaced by {}; set its keys \
+         instead{example}",
+        new.kind.describe()
+    ))
 }
 
 #[cfg(test)]

@@ -1,9 +1,17 @@
 //! Typed, checked reading of one TOML table. Every getter records the key it asked for,
 //! so [`Table::finish`] can reject the keys nobody asked for, with a "did you mean".
 
-use crate::error::{did_you_mean, suggestion, SceneError, Source};
+use crate::error::{did_you_mean, number, suggestion, Location, SceneError, Source};
 use crate::tree::{Entry, Kind, Node, Origin};
 use std::cell::RefCell;
+
+/// Largest magnitude of any number a scene gives (masses, stiffnesses, torques, times,
+/// rates, …) unless a tighter bound applies: far beyond any robot, far below the range
+/// where the simulator's derived quantities (energies, mass matrices) overflow.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+/// Largest magnitude of a position, length or angle, m or rad (a coordinate beyond it
+/// makes energies and contact gaps lose all precision or overflow).
+pub const MAX_COORDINATE: f64 = 1e6;
 
 /// What a number must be, for checks and for messages.
 #[derive(Clone, Copy, Debug)]
@@ -11,6 +19,10 @@ pub struct Num {
     /// Unit for messages, e.g. `"kg"` (empty: dimensionless).
     pub unit: &'static str,
     rule: Rule,
+    /// Largest accepted magnitude.
+    max: f64,
+    /// Smallest accepted magnitude of a non-zero value (0: no bound).
+    min: f64,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -22,43 +34,75 @@ enum Rule {
 }
 
 impl Num {
-    /// Any finite number.
-    pub const fn any(unit: &'static str) -> Self {
+    const fn new(unit: &'static str, rule: Rule) -> Self {
         Self {
             unit,
-            rule: Rule::Finite,
+            rule,
+            max: MAX_MAGNITUDE,
+            min: 0.0,
         }
+    }
+    /// Any finite number (of magnitude at most [`MAX_MAGNITUDE`]).
+    pub const fn any(unit: &'static str) -> Self {
+        Self::new(unit, Rule::Finite)
     }
     /// A finite number `> 0`.
     pub const fn positive(unit: &'static str) -> Self {
-        Self {
-            unit,
-            rule: Rule::Positive,
-        }
+        Self::new(unit, Rule::Positive)
     }
     /// A finite number `≥ 0`.
     pub const fn non_negative(unit: &'static str) -> Self {
-        Self {
-            unit,
-            rule: Rule::NonNegative,
-        }
+        Self::new(unit, Rule::NonNegative)
     }
     /// A number in `lo ..= hi`.
     pub const fn range(lo: f64, hi: f64, unit: &'static str) -> Self {
-        Self {
-            unit,
-            rule: Rule::Range(lo, hi),
-        }
+        Self::new(unit, Rule::Range(lo, hi))
+    }
+    /// A position, length or angle: magnitude at most [`MAX_COORDINATE`].
+    pub const fn coordinate(self) -> Self {
+        self.at_most(MAX_COORDINATE)
+    }
+    /// Magnitude at most `max`.
+    pub const fn at_most(mut self, max: f64) -> Self {
+        self.max = max;
+        self
+    }
+    /// A non-zero value of magnitude at least `min`.
+    pub const fn at_least(mut self, min: f64) -> Self {
+        self.min = min;
+        self
     }
 
-    fn accepts(&self, v: f64) -> bool {
-        v.is_finite()
+    /// `None` when `v` is accepted, else what was expected.
+    fn check(&self, v: f64) -> Option<String> {
+        let ok = v.is_finite()
             && match self.rule {
                 Rule::Finite => true,
                 Rule::Positive => v > 0.0,
                 Rule::NonNegative => v >= 0.0,
                 Rule::Range(lo, hi) => (lo..=hi).contains(&v),
-            }
+            };
+        if !ok {
+            return Some(self.expected());
+        }
+        if matches!(self.rule, Rule::Range(..)) {
+            return None;
+        }
+        if v.abs() > self.max {
+            return Some(format!(
+                "{} of magnitude at most {}",
+                self.expected(),
+                number(self.max)
+            ));
+        }
+        if v != 0.0 && v.abs() < self.min {
+            return Some(format!(
+                "{} of magnitude at least {}",
+                self.expected(),
+                number(self.min)
+            ));
+        }
+        None
     }
 
     /// "a positive number in kg", "a number in [0, 1]", …
@@ -67,7 +111,7 @@ impl Num {
             Rule::Finite => "a finite number".to_string(),
             Rule::Positive => "a positive number".to_string(),
             Rule::NonNegative => "a non-negative number".to_string(),
-            Rule::Range(lo, hi) => format!("a number in [{lo}, {hi}]"),
+            Rule::Range(lo, hi) => format!("a number in [{}, {}]", number(lo), number(hi)),
         };
         match self.unit {
             "" => what,
@@ -131,6 +175,25 @@ impl<'a> Table<'a> {
         self.error(origin, key, message)
     }
 
+    /// An error about the table itself, placed at its header.
+    pub fn error_here(&self, message: impl Into<String>) -> SceneError {
+        self.src.invalid(&self.origin, &self.path, message)
+    }
+
+    /// Where the value of `key` was written (the table if it is absent).
+    pub fn origin_of(&self, key: &str) -> Origin {
+        self.entries
+            .iter()
+            .find(|e| e.key == key)
+            .map_or(&self.origin, |e| &e.node.origin)
+            .clone()
+    }
+
+    /// The location of `origin` in the scene file or the overrides.
+    pub fn locate(&self, origin: &Origin) -> Location {
+        self.src.locate(origin)
+    }
+
     fn missing(&self, key: &str, expected: &str) -> SceneError {
         // A misspelling of the missing key is the likelier mistake: report that instead.
         if let Some(typo) = self
@@ -170,10 +233,9 @@ impl<'a> Table<'a> {
             Kind::Int(i) => i as f64,
             _ => return Err(self.wrong(key, node, &num.expected())),
         };
-        if num.accepts(v) {
-            Ok(v)
-        } else {
-            Err(self.wrong(key, node, &num.expected()))
+        match num.check(v) {
+            None => Ok(v),
+            Some(expected) => Err(self.wrong(key, node, &expected)),
         }
     }
 
@@ -287,7 +349,7 @@ impl<'a> Table<'a> {
         default: Option<[f64; 2]>,
         unit: &'static str,
     ) -> Result<[f64; 2], SceneError> {
-        match self.opt_f64_list(key, Some(2), Num::any(unit))? {
+        match self.opt_f64_list(key, Some(2), Num::any(unit).coordinate())? {
             Some(v) => Ok([v[0], v[1]]),
             None => default.ok_or_else(|| self.missing(key, &format!("[x, y] in {unit}"))),
         }
@@ -312,9 +374,10 @@ impl<'a> Table<'a> {
             .map(|(i, item)| match &item.kind {
                 Kind::Array(xy) if xy.len() == 2 => {
                     let path = format!("{key}[{i}]");
+                    let num = Num::any(unit).coordinate();
                     Ok([
-                        self.number(&path, &xy[0], Num::any(unit))?,
-                        self.number(&path, &xy[1], Num::any(unit))?,
+                        self.number(&path, &xy[0], num)?,
+                        self.number(&path, &xy[1], num)?,
                     ])
                 }
                 _ => Err(self.wrong(&format!("{key}[{i}]"), item, &format!("[x, y] in {unit}"))),

@@ -1,6 +1,6 @@
 //! The validated scene and how it is built from the file (`docs/scene-format.md`).
 
-use crate::bodies::{read_bodies, read_shapes, read_springs, Names, ShapeSpec};
+use crate::bodies::{read_bodies, read_shapes, read_springs, Names, ShapeSpec, MAX_SHAPES};
 use crate::controller::read_controller;
 use crate::environment::read_environment;
 use crate::error::{SceneError, Source};
@@ -9,13 +9,20 @@ use crate::reader::{Num, Table};
 use crate::settings::{read_meta, read_settings, Meta, Settings};
 use crate::tree::Node;
 use hopsim_control::ControllerConfig;
-use hopsim_model::{Model, Vec2, Workspace};
+use hopsim_model::{Kinematics, Model, ModelError, Vec2};
 use hopsim_step::{State, StepSettings};
 use nalgebra::DVector;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Gaps below `-PENETRATION_TOL` at the initial state are rejected, m.
 const PENETRATION_TOL: f64 = 1e-9;
+/// Largest scene file [`load`] reads, bytes (8 MiB: a hundred times the largest sensible
+/// scene; `/dev/zero` or an endless pipe stops here instead of exhausting memory).
+pub const MAX_SCENE_BYTES: u64 = 8 << 20;
+/// Most potential contacts (shape features × terrain features) a scene may create: the
+/// contact LCP is dense, its matrices grow with the square of this count.
+pub const MAX_CONTACTS: usize = 1000;
 
 /// A scene ready to simulate: model, initial state, controller and settings.
 #[derive(Clone, Debug)]
@@ -56,13 +63,67 @@ impl Scene {
     }
 }
 
-/// Reads and validates the scene file at `path` with `overrides` applied.
+/// Reads and validates the scene file at `path` with `overrides` applied. Reads at most
+/// [`MAX_SCENE_BYTES`].
 pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let text = read_bounded(path, MAX_SCENE_BYTES)?;
+    parse(&text, path, overrides)
+}
+
+/// The text of the file at `path`: at most `limit` bytes of UTF-8 without NUL bytes. A
+/// regular file above the limit is refused unread; any other input (a pipe, a device) is
+/// read in blocks and refused at its first NUL byte or at the limit.
+fn read_bounded(path: &Path, limit: u64) -> Result<String, SceneError> {
+    use std::io::{Error, ErrorKind};
+    let io = |source| SceneError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    parse(&text, path, overrides)
+    };
+    let too_large = || {
+        io(Error::new(
+            ErrorKind::FileTooLarge,
+            format!(
+                "the file is larger than the {} MiB limit of scene files",
+                limit >> 20
+            ),
+        ))
+    };
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    if file
+        .metadata()
+        .is_ok_and(|m| m.is_file() && m.len() > limit)
+    {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    let mut block = vec![0u8; 1 << 16];
+    loop {
+        let n = match file.read(&mut block) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+            Err(e) => return Err(io(e)),
+        };
+        if let Some(i) = block[..n].iter().position(|&b| b == 0) {
+            return Err(io(Error::new(
+                ErrorKind::InvalidData,
+                format!("not a text file (NUL byte at offset {})", bytes.len() + i),
+            )));
+        }
+        if (bytes.len() + n) as u64 > limit {
+            return Err(too_large());
+        }
+        bytes.extend_from_slice(&block[..n]);
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        io(Error::new(
+            ErrorKind::InvalidData,
+            format!(
+                "not a text file (invalid UTF-8 at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        ))
+    })
 }
 
 /// Validates scene `text` (read from `path`, which names it in errors) with `overrides`.
@@ -101,22 +162,57 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     env.finish()?;
 
     let mut body_names = Names::new(("body", "bodies"));
-    let (bodies, coordinates) = read_bodies(&top, &top.tables("bodies")?, &mut body_names)?;
+    let body_tables = top.tables("bodies")?;
+    let (bodies, coordinates) = read_bodies(&top, &body_tables, &mut body_names)?;
     let mut shape_names = Names::new(("shape", "shapes"));
-    let shapes = read_shapes(
-        &top.tables("shapes")?,
-        &body_names,
-        &mut shape_names,
-        material,
-    )?;
-    let springs = read_springs(&top.tables("springs")?, &body_names)?;
+    let shape_tables = top.tables("shapes")?;
+    let shapes = read_shapes(&shape_tables, &body_names, &mut shape_names, material)?;
+    let spring_tables = top.tables("springs")?;
+    let springs = read_springs(&spring_tables, &body_names)?;
     let control = top.table_or_empty("controller")?;
     let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
 
     let instances = shapes.iter().map(|s| s.instance.clone()).collect();
     let gravity = Vec2::new(0.0, -settings.gravity);
-    let mut model = Model::new(bodies, instances, terrain, springs, gravity, material)
-        .map_err(|e| top.error_at_key("bodies", e.to_string()))?;
+    let mut model =
+        Model::new(bodies, instances, terrain, springs, gravity, material).map_err(|e| {
+            // The scene's own checks come first; should the model still object, place
+            // the error at the table it is about.
+            let find = |tables: &[Table<'_>], name: &str| {
+                tables
+                    .iter()
+                    .position(|t| t.opt_str("name").ok().flatten() == Some(name))
+            };
+            let at = match &e {
+                ModelError::BadShape { shape, .. } => find(&shape_tables, shape)
+                    .or_else(|| shape_names.find(shape))
+                    .map(|i| &shape_tables[i]),
+                ModelError::BadSpring { spring, .. } => {
+                    find(&spring_tables, spring).map(|i| &spring_tables[i])
+                }
+                ModelError::NonPositive { body, .. }
+                | ModelError::BaseWithJoint { body }
+                | ModelError::MissingJoint { body }
+                | ModelError::BadParent { body, .. }
+                | ModelError::BadJoint { body, .. } => {
+                    body_names.find(body).map(|i| &body_tables[i])
+                }
+                _ => None,
+            };
+            match at {
+                Some(t) => t.error_here(e.to_string()),
+                None => top.error_at_key("bodies", e.to_string()),
+            }
+        })?;
+    if model.contacts.len() > MAX_CONTACTS {
+        let first_extra = model.contacts[MAX_CONTACTS].shape;
+        return Err(shape_tables[first_extra].error_here(format!(
+            "the shapes make {} potential contacts with the terrain (a contact per shape \
+             feature and terrain feature); a scene may have at most {MAX_CONTACTS} (and at \
+             most {MAX_SHAPES} shapes)",
+            model.contacts.len()
+        )));
+    }
     for c in &mut model.contacts {
         c.material = shapes[c.shape].material;
     }
@@ -125,7 +221,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         .collect();
 
     let init = top.table_or_empty("initial")?;
-    let initial = read_initial(&init, &model, &shapes, &coordinates)?;
+    let initial = read_initial(&init, &model, &shapes, &coordinates, settings.max_speed)?;
     init.finish()?;
     top.finish()?;
     Ok(Scene {
@@ -150,18 +246,20 @@ fn read_initial(
     model: &Model,
     shapes: &[ShapeSpec],
     coordinates: &[String],
+    max_speed: f64,
 ) -> Result<State, SceneError> {
     let n = model.dof();
     let names = coordinates.join(", ");
     let mut q = init
-        .opt_f64_list("q", Some(n), Num::any("m or rad"))?
+        .opt_f64_list("q", Some(n), Num::any("m or rad").coordinate())?
         .ok_or_else(|| init.error_at_key("q", format!("missing; expected {n} values ({names})")))
         .map(DVector::from_vec)?;
+    // A start faster than `simulation.max_speed` would stop the run as a runaway at once.
     let u = init
-        .opt_f64_list("u", Some(n), Num::any("m/s or rad/s"))?
+        .opt_f64_list("u", Some(n), Num::any("m/s or rad/s").at_most(max_speed))?
         .map_or_else(|| DVector::zeros(n), DVector::from_vec);
     let rest = init.bool_or("rest_on_ground", false)?;
-    let mut ws = Workspace::new(model);
+    let mut ws = Kinematics::new(model);
     if rest {
         // Lower (or raise) the robot along y until its lowest active shape touches.
         for _ in 0..8 {
@@ -197,7 +295,7 @@ fn read_initial(
 fn lowest_contact(
     model: &Model,
     shapes: &[ShapeSpec],
-    ws: &mut Workspace,
+    ws: &mut Kinematics,
     q: &DVector<f64>,
     u: &DVector<f64>,
 ) -> Option<(f64, f64, usize)> {

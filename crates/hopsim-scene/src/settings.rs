@@ -1,6 +1,6 @@
 //! `[meta]` and `[simulation]`.
 
-use crate::error::SceneError;
+use crate::error::{number, SceneError};
 use crate::reader::{Num, Table};
 
 /// The free `[meta]` table: title, source of the parameters, notes, and any other keys.
@@ -57,20 +57,39 @@ pub(crate) fn read_meta(meta: Option<Table<'_>>, default_title: &str) -> Result<
     Ok(out)
 }
 
+/// Smallest step size, s: with durations up to `1e9` s the step count stays far below
+/// `u64::MAX`.
+pub const MIN_DT: f64 = 1e-9;
+
 /// Reads `[simulation]` and `[summary]`.
 pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Settings, SceneError> {
     let duration = sim.f64("duration", Num::positive("s"))?;
-    let dt = sim.f64("dt", Num::positive("s"))?;
+    let dt = sim.f64("dt", Num::positive("s").at_least(MIN_DT))?;
     if dt >= duration {
         return Err(sim.error_at_key(
             "dt",
-            format!("the step size {dt} s must be smaller than the duration {duration} s"),
+            format!(
+                "the step size {} s must be smaller than the duration {} s",
+                number(dt),
+                number(duration)
+            ),
         ));
     }
-    // A window longer than the run (e.g. after `--duration 5`) is the whole run.
-    let speed_window = summary
-        .f64_or("speed_window", duration / 2.0, Num::positive("s"))?
-        .min(duration);
+    // A window longer than the run (e.g. after `--duration 5`) is the whole run; one
+    // shorter than a step holds no motion to average (its mean speed would be 0/0).
+    let window = summary.opt_f64("speed_window", Num::positive("s"))?;
+    if let Some(w) = window.filter(|&w| w < dt) {
+        return Err(summary.error_at_key(
+            "speed_window",
+            format!(
+                "the speed window {} s is shorter than the step size {} s; expected at least \
+                 one step",
+                number(w),
+                number(dt)
+            ),
+        ));
+    }
+    let speed_window = window.unwrap_or((duration / 2.0).max(dt)).min(duration);
     Ok(Settings {
         duration,
         dt,

@@ -1,8 +1,16 @@
 //! An owned TOML tree in which every value remembers where it came from: a byte range of
 //! the scene file, or a `--set` override. Validation errors point there.
 
+use crate::error::number;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
+
+/// Deepest nesting of arrays and tables a scene may use (a scene needs 3: `[[shapes]]`,
+/// `vertices`, a vertex); deeper input is rejected before it can exhaust the stack.
+pub const MAX_DEPTH: usize = 32;
+
+/// Why a parsed value cannot become a [`Node`]: a message and the byte range it is about.
+pub type TreeError = (String, Option<std::ops::Range<usize>>);
 
 /// Where a value was written.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,7 +56,7 @@ impl Kind {
         match self {
             Kind::Str(s) => format!("the string \"{s}\""),
             Kind::Int(i) => format!("the integer {i}"),
-            Kind::Float(f) => format!("the number {f}"),
+            Kind::Float(f) => format!("the number {}", number(*f)),
             Kind::Bool(b) => format!("the boolean {b}"),
             Kind::Array(a) => format!("an array of {} values", a.len()),
             Kind::Table(_) => "a table".into(),
@@ -59,32 +67,43 @@ impl Kind {
 
 impl Node {
     /// Converts a parsed TOML value (borrowing the source text) into an owned node.
-    pub fn from_toml(value: &Spanned<DeValue<'_>>) -> Result<Self, String> {
-        let origin = Origin::File(value.span());
+    pub fn from_toml(value: &Spanned<DeValue<'_>>) -> Result<Self, TreeError> {
+        Self::from_toml_at(value, 0)
+    }
+
+    fn from_toml_at(value: &Spanned<DeValue<'_>>, depth: usize) -> Result<Self, TreeError> {
+        let span = value.span();
+        if depth > MAX_DEPTH {
+            return Err((
+                format!("arrays and tables nested more than {MAX_DEPTH} deep"),
+                Some(span),
+            ));
+        }
+        let origin = Origin::File(span.clone());
         let kind = match value.get_ref() {
             DeValue::String(s) => Kind::Str(s.to_string()),
             DeValue::Integer(i) => Kind::Int(
                 i64::from_str_radix(i.as_str(), i.radix())
-                    .map_err(|_| format!("integer {i} does not fit in 64 bits"))?,
+                    .map_err(|_| (format!("integer {i} does not fit in 64 bits"), Some(span)))?,
             ),
             DeValue::Float(f) => Kind::Float(parse_float(f.as_str())),
             DeValue::Boolean(b) => Kind::Bool(*b),
             DeValue::Datetime(d) => Kind::Datetime(d.to_string()),
             DeValue::Array(a) => Kind::Array(
                 a.iter()
-                    .map(Node::from_toml)
+                    .map(|v| Node::from_toml_at(v, depth + 1))
                     .collect::<Result<Vec<_>, _>>()?,
             ),
-            DeValue::Table(t) => Kind::Table(entries(t)?),
+            DeValue::Table(t) => Kind::Table(entries(t, depth + 1)?),
         };
         Ok(Node { kind, origin })
     }
 
     /// Parses a whole document into a table node; a syntax error comes with its message
     /// and byte range.
-    pub fn parse_document(text: &str) -> Result<Self, (String, Option<std::ops::Range<usize>>)> {
+    pub fn parse_document(text: &str) -> Result<Self, TreeError> {
         let table = DeTable::parse(text).map_err(|e| (e.message().to_string(), e.span()))?;
-        let kind = Kind::Table(entries(table.get_ref()).map_err(|m| (m, None))?);
+        let kind = Kind::Table(entries(table.get_ref(), 0)?);
         Ok(Node {
             kind,
             origin: Origin::File(table.span()),
@@ -100,14 +119,14 @@ impl Node {
     }
 }
 
-fn entries(table: &DeTable<'_>) -> Result<Vec<Entry>, String> {
+fn entries(table: &DeTable<'_>, depth: usize) -> Result<Vec<Entry>, TreeError> {
     table
         .iter()
         .map(|(k, v)| {
             Ok(Entry {
                 key: k.get_ref().to_string(),
                 key_origin: Origin::File(k.span()),
-                node: Node::from_toml(v)?,
+                node: Node::from_toml_at(v, depth)?,
             })
         })
         .collect()

@@ -4,7 +4,7 @@
 //! benchmark runs a 4 × 4 grid of 20 s runs on all cores.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hopsim_sim::{grid_jobs, run, sweep, GridAxis, RunOptions};
+use hopsim_sim::{grid_jobs, run, sweep, GridAxis, NO_PROGRESS};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
@@ -18,7 +18,7 @@ fn robbit_runs(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(10));
     group.bench_function("run_20s", |b| {
-        b.iter(|| black_box(run(&scene, &RunOptions::default(), &mut ()).unwrap().hops))
+        b.iter(|| black_box(run(&scene, &mut ()).unwrap().hops))
     });
     let axes: Vec<GridAxis> = [
         "controller.torque=0.1:0.3:4",
@@ -30,7 +30,7 @@ fn robbit_runs(c: &mut Criterion) {
     let jobs = grid_jobs(&axes);
     group.bench_function("sweep_16_runs_of_20s", |b| {
         b.iter(|| {
-            let points = sweep(&path, &text, &[], &jobs, None);
+            let points = sweep(&path, &text, &[], &jobs, |s| run(s, &mut ()), NO_PROGRESS);
             assert!(points.iter().all(|p| p.result.is_ok()));
             black_box(points.len())
         })

@@ -1,21 +1,34 @@
 //! The simulation loop: before each step the controller fills the actuation, the stepper
-//! advances the state, and observers (recorders, the summary, golden traces) see the
-//! step's record and events.
+//! advances the state, and observers (recorders, the summary, golden traces, progress
+//! displays) see the step's record and events.
+//!
+//! * [`Simulation`]: one step at a time; [`run`]: a whole run and its [`Summary`].
+//! * [`Observer`]: what watches a run ([`StepView`] after every step).
+//! * [`RecordingObserver`]: frames and events to the recorders of `hopsim-record`.
+//! * [`PoincareSection`]: a stroboscopic section of a run and its period ([`Periodicity`]).
+//! * [`sweep`]: a scene run over a grid of overrides, in parallel.
 
+mod error;
 mod flight;
 mod observer;
 mod periodicity;
 mod recording;
+mod run;
 mod simulation;
 mod summary;
 mod sweep;
 
+pub use error::RunError;
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView};
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
-pub use simulation::{run, RunError, RunOptions, Simulation};
+pub use run::run;
+pub use simulation::Simulation;
 pub use summary::{
-    CubeBaseline, EnergySummary, ImpulseSummary, LcpSummary, RobbitSummary, Summary,
+    per_forward_metre, EnergySummary, ImpulseSummary, LcpSummary, Summary, WindowTotals,
+    IMPULSE_UNIT,
 };
-pub use sweep::{grid_jobs, grid_points, sweep, GridAxis, SweepJob, SweepPoint};
+pub use sweep::{
+    grid_jobs, grid_points, sweep, GridAxis, Progress, SweepJob, SweepPoint, NO_PROGRESS,
+};

@@ -1,7 +1,7 @@
-//! What observers of a run see after every step.
+//! What observers of a run see after every step, and how several watch one run.
 
-use crate::simulation::RunError;
-use hopsim_model::{Model, Workspace};
+use crate::RunError;
+use hopsim_model::{Kinematics, Model};
 use hopsim_record::Event;
 use hopsim_step::{State, StepRecord};
 
@@ -11,7 +11,7 @@ pub struct StepView<'a> {
     /// State at the end of the step.
     pub state: &'a State,
     /// Kinematics at the end of the step.
-    pub kinematics: &'a Workspace,
+    pub kinematics: &'a Kinematics,
     /// The stepper's record (contact percussions, lock impulses, energies).
     pub record: &'a StepRecord,
     /// Discrete events of this step.
@@ -48,5 +48,29 @@ impl<T: Observer + ?Sized> Observer for &mut T {
 impl Observer for () {
     fn on_step(&mut self, _: &StepView<'_>) -> Result<(), RunError> {
         Ok(())
+    }
+}
+
+/// Two observers watching one run: each step goes to the first, then to the second.
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.0.on_step(view)?;
+        self.1.on_step(view)
+    }
+
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.0.on_start(view)?;
+        self.1.on_start(view)
+    }
+}
+
+/// An observer that may be absent.
+impl<O: Observer> Observer for Option<O> {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.as_mut().map_or(Ok(()), |o| o.on_step(view))
+    }
+
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.as_mut().map_or(Ok(()), |o| o.on_start(view))
     }
 }

@@ -27,6 +27,7 @@
 //! docs/canebot.md), while `z` of a period-2 gait compared one period apart differs by a
 //! sizeable fraction of the excursion.
 
+use crate::{Observer, RunError, StepView};
 use serde::Serialize;
 
 /// How periodicity is decided.
@@ -261,6 +262,20 @@ impl PoincareSection {
             window: options.window,
             relative_tolerance: options.relative_tolerance,
         }
+    }
+}
+
+/// As an observer of a run, the section sees the start state and the state after every
+/// step.
+impl Observer for PoincareSection {
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.on_step(view)
+    }
+
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        let state = view.state;
+        self.push(state.t, state.q.as_slice(), state.u.as_slice());
+        Ok(())
     }
 }
 

@@ -1,7 +1,6 @@
 //! Hands the run to recorders: frames at the recording rate, every event exactly.
 
-use crate::simulation::RunError;
-use crate::{Observer, StepView};
+use crate::{Observer, RunError, StepView};
 use hopsim_record::{
     BodyInfo, BodyPose, ContactSample, EnergySample, Frame, RecorderSet, RecordingInfo,
 };

@@ -1,33 +1,10 @@
-//! The run loop: controller → actuation → step → events → observers.
+//! One step of a scene: controller → actuation → step → events → observers.
 
-use crate::summary::SummaryCollector;
-use crate::{FlightEvent, FlightTracker, Observer, StepView, Summary};
+use crate::{FlightEvent, FlightTracker, Observer, RunError, StepView};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
-use hopsim_record::{Event, EventKind, RecordError};
+use hopsim_record::{Event, EventKind};
 use hopsim_scene::Scene;
-use hopsim_step::{Actuation, ContactState, State, StepError, Stepper};
-use indicatif::{ProgressBar, ProgressDrawTarget};
-use std::time::Instant;
-
-/// Why a run stopped early.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    #[error(transparent)]
-    Step(#[from] StepError),
-    #[error("recording failed: {0}")]
-    Record(#[from] RecordError),
-    /// The user stopped the run (an observer saw Ctrl-C), at simulation time `t`.
-    #[error("interrupted at t = {t:.6} s")]
-    Interrupted { t: f64 },
-}
-
-/// Options of a run beyond the scene's settings.
-#[derive(Clone, Debug, Default)]
-pub struct RunOptions {
-    /// Progress bar over simulated milliseconds; it is drawn (on a terminal only) once the
-    /// run has taken more than a second of wall time.
-    pub progress: Option<ProgressBar>,
-}
+use hopsim_step::{Actuation, ContactState, State, Stepper};
 
 /// A scene being simulated: the stepper, the controller and the state.
 pub struct Simulation<'s> {
@@ -112,7 +89,7 @@ impl<'s> Simulation<'s> {
             model,
             state: &self.state,
             dt: self.scene.settings.dt,
-            kinematics: self.stepper.workspace(),
+            kinematics: self.stepper.kinematics(),
             in_contact: self.loaded,
             shapes_active: &self.shapes_active,
         };
@@ -208,56 +185,15 @@ impl<'s> Simulation<'s> {
     }
 
     /// What observers see of the last step (or of the initial state before any).
-    fn view(&self) -> StepView<'_> {
+    pub fn view(&self) -> StepView<'_> {
         StepView {
             model: &self.scene.model,
             state: &self.state,
-            kinematics: self.stepper.workspace(),
+            kinematics: self.stepper.kinematics(),
             record: self.stepper.record(),
             events: &self.events,
             shapes_active: &self.shapes_active,
             torque: self.actuation.torques.first().map_or(0.0, |t| t.torque),
         }
-    }
-}
-
-/// Runs `scene` for its duration, showing every step to `observer`, and returns the run
-/// summary. On an error the observer has seen every step before it.
-pub fn run(
-    scene: &Scene,
-    options: &RunOptions,
-    observer: &mut dyn Observer,
-) -> Result<Summary, RunError> {
-    let duration = scene.settings.duration;
-    let steps = (duration / scene.settings.dt).round() as u64;
-    let mut sim = Simulation::new(scene);
-    let mut summary = SummaryCollector::new(scene);
-    let started = Instant::now();
-    let tick = (steps / 1000).max(1);
-    let mut revealed = false;
-    sim.start(observer)?;
-    for k in 0..steps {
-        sim.step(&mut Tee(&mut summary, observer))?;
-        if let Some(bar) = options.progress.as_ref().filter(|_| k % tick == 0) {
-            if !revealed && started.elapsed().as_secs_f64() > 1.0 {
-                bar.set_draw_target(ProgressDrawTarget::stderr());
-                revealed = true;
-            }
-            bar.set_position((sim.state.t * 1e3) as u64);
-        }
-    }
-    if let Some(bar) = &options.progress {
-        bar.finish_and_clear();
-    }
-    Ok(summary.finish(&sim, started.elapsed().as_secs_f64(), steps))
-}
-
-/// Shows each step to two observers.
-struct Tee<'a, 'b>(&'a mut SummaryCollector, &'b mut dyn Observer);
-
-impl Observer for Tee<'_, '_> {
-    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
-        self.0.on_step(view)?;
-        self.1.on_step(view)
     }
 }

@@ -1,14 +1,20 @@
 //! Parameter sweeps: a scene run over the Cartesian product of grid axes, in parallel,
 //! with results in a deterministic order (physics.md §5.3, the speed-versus-impulse map).
 
-use crate::{run, RunOptions, Summary};
-use hopsim_scene::Override;
-use indicatif::ProgressBar;
+use crate::{RunError, Summary};
+use hopsim_scene::{Override, Scene};
 use rayon::prelude::*;
+use serde::Serialize;
 use std::path::Path;
 
+/// Called once per finished run of a sweep, from any thread.
+pub type Progress<'a> = &'a (dyn Fn() + Sync);
+
+/// A [`Progress`] that ignores the reports.
+pub const NO_PROGRESS: Progress<'static> = &|| {};
+
 /// One grid axis: a scene key and the values it takes.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GridAxis {
     /// Scene key path, e.g. `controller.torque`.
     pub key: String,
@@ -69,12 +75,12 @@ pub struct SweepJob {
     pub overrides: Vec<Override>,
 }
 
-/// A job and what its run gave.
+/// A job and what its run gave (by default the run loop's [`Summary`]).
 #[derive(Clone, Debug)]
-pub struct SweepPoint {
+pub struct SweepPoint<R = Summary> {
     pub job: SweepJob,
-    /// The run summary, or the error that stopped the run (or rejected its scene).
-    pub result: Result<Summary, String>,
+    /// What the run gave, or the error that stopped the run (or rejected its scene).
+    pub result: Result<R, String>,
 }
 
 /// Every grid point in row-major order (the last axis varies fastest).
@@ -109,28 +115,27 @@ pub fn grid_jobs(axes: &[GridAxis]) -> Vec<SweepJob> {
         .collect()
 }
 
-/// Runs the scene `text` (read from `path`) with `base` overrides for every job, in
-/// parallel on all cores; results keep the order of `jobs`. A run that fails is a point
-/// with its error, not a failed sweep.
-pub fn sweep(
+/// Parses the scene `text` (read from `path`) with `base` overrides and then each job's,
+/// and runs it with `run` (e.g. `|scene| hopsim_sim::run(scene, &mut ())`), in parallel on
+/// all cores; results keep the order of `jobs`. A run that fails, or a job whose scene is
+/// invalid, is a point with its error, not a failed sweep. `progress` is called after each
+/// run.
+pub fn sweep<R: Send>(
     path: &Path,
     text: &str,
     base: &[Override],
     jobs: &[SweepJob],
-    progress: Option<&ProgressBar>,
-) -> Vec<SweepPoint> {
+    run: impl Fn(&Scene) -> Result<R, RunError> + Sync,
+    progress: Progress<'_>,
+) -> Vec<SweepPoint<R>> {
     jobs.par_iter()
         .map(|job| {
             let mut overrides = base.to_vec();
             overrides.extend_from_slice(&job.overrides);
             let result = hopsim_scene::parse(text, path, &overrides)
                 .map_err(|e| e.to_string())
-                .and_then(|scene| {
-                    run(&scene, &RunOptions::default(), &mut ()).map_err(|e| e.to_string())
-                });
-            if let Some(bar) = progress {
-                bar.inc(1);
-            }
+                .and_then(|scene| run(&scene).map_err(|e| e.to_string()));
+            progress();
             SweepPoint {
                 job: job.clone(),
                 result,

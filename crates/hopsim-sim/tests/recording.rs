@@ -3,7 +3,7 @@
 
 use hopsim_record::{McapRecorder, McapRecording, RecorderSet};
 use hopsim_scene::Override;
-use hopsim_sim::{recording_info, Observer, RecordingObserver, RunError, RunOptions, StepView};
+use hopsim_sim::{recording_info, Observer, RecordingObserver, RunError, StepView};
 use hopsim_step::{ImpulseTrace, TraceTolerance};
 use std::path::Path;
 
@@ -57,7 +57,6 @@ fn mcap_of_a_run_matches_the_simulation_records() {
     let mut truth = Truth::default();
     hopsim_sim::run(
         &scene,
-        &RunOptions::default(),
         &mut Both {
             recorder: &mut recorder,
             truth: &mut truth,
@@ -107,7 +106,7 @@ fn mcap_of_a_run_matches_the_simulation_records() {
         .retain(|s| s.channel != hopsim_record::BRAKE_CHANNEL);
     assert!(!expected.samples.is_empty());
     let exact = TraceTolerance { abs: 0.0, rel: 0.0 };
-    assert_eq!(expected.compare(&contacts, exact), None);
+    assert_eq!(expected.first_difference(&contacts, exact), None);
     // Every event, exactly.
     assert!(truth
         .events

@@ -1,4 +1,5 @@
-//! One step of the Moreau midpoint scheme, steps 1-5 of physics.md §4.
+//! One step of the Moreau midpoint scheme of physics.md §4, as a pipeline of named stages
+//! (see [`Stepper::step`]).
 
 use crate::linalg::{axpy, dot, Factor};
 use crate::{
@@ -6,7 +7,7 @@ use crate::{
     State, StepRecord,
 };
 use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver};
-use hopsim_model::{ContactGeometry, Model, Workspace};
+use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
 /// Settings of the stepper.
@@ -87,19 +88,13 @@ pub enum StepError {
 
 /// The time-stepper: reused buffers for one model, so a step allocates nothing.
 ///
-/// One [`Stepper::step`] is physics.md §4 line by line:
-/// 1. `q^M = q^A + Δt/2 u^A`;
-/// 2. kinematics, `M(q^M)` (factored as `L D Lᵀ`, never inverted), `h(q^M, u^A)`, the index
-///    set `H = {enabled contacts with g_N(q^M) ≤ 0}` and their `W_N`, `W_T` at `q^M`;
-///    impulsive locks `Bᵀ u^E = 0` replace `G = M⁻¹` by `G − G B (Bᵀ G B)⁻¹ Bᵀ G` and
-///    `ũ = u^A + G (h Δt + impulses)` by its projection;
-/// 3. the frictional LCP in `z = (Λ_N, Λ_R, ξ_L)`, `w = (ξ_N, ξ_R, Λ_L)` with the
-///    restitution terms `ε_N γ_N^A`, `ε_T γ_T^A`, solved by Lemke's method;
-/// 4. `u^E = ũ + G (W_N Λ_N + W_T Λ_T)`, `Λ_T = Λ_R − μ Λ_N`;
-/// 5. `q^E = q^M + Δt/2 u^E`, then the end-of-step kinematics, energies and gaps.
-///
-/// Only the products `G W` and `G (h Δt + …)` are needed, so they are computed by
-/// solves with that factor; the `3k × 3k` LCP is the only dense matrix built.
+/// One [`Stepper::step`] is physics.md §4 as a pipeline of stages, listed in its doc. `M` is
+/// factored as `L D Lᵀ`, never inverted: only the products `G W` and `G (h Δt + …)` are
+/// needed, so they are computed by solves with that factor; impulsive locks `Bᵀ u^E = 0`
+/// replace `G = M⁻¹` by `G − G B (Bᵀ G B)⁻¹ Bᵀ G` and `ũ` by its projection. The
+/// frictional LCP in `z = (Λ_N, Λ_R, ξ_L)`, `w = (ξ_N, ξ_R, Λ_L)` with the restitution
+/// terms `ε_N γ_N^A`, `ε_T γ_T^A` is solved by Lemke's method; it is the only dense matrix
+/// built (`3k × 3k`).
 ///
 /// **LCP failures** are never silent. A step whose frictional LCP has no certified
 /// solution is counted in [`LcpStats::failures`] and flagged in
@@ -117,7 +112,8 @@ pub struct Stepper {
     /// accumulated, so times stay on the grid of step sizes).
     t_start: f64,
     enabled: Vec<bool>,
-    ws: Workspace,
+    /// Kinematics at `(q^M, u^A)` during a step, at the end state after it.
+    kinematics: Kinematics,
     /// Generalised coordinates `n`.
     n: usize,
     /// `M(q^M)`, row-major `n × n`, and its `L D Lᵀ` factor.
@@ -135,6 +131,8 @@ pub struct Stepper {
     solved: Vec<f64>,
     u_tilde: Vec<f64>,
     q_mid: Vec<f64>,
+    /// `u^A`, the velocity at the start of the step.
+    u_start: Vec<f64>,
     u_end: Vec<f64>,
     scratch: Vec<f64>,
     locks: Locks,
@@ -164,15 +162,15 @@ impl Stepper {
         let locks = model.bodies.len();
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
-        let ws = Workspace::new(model);
-        let diagonal = ws.mass_matrix_is_diagonal();
+        let kinematics = Kinematics::new(model);
+        let diagonal = kinematics.mass_matrix_is_diagonal();
         lcp.reserve(3 * k);
         Self {
             lcp,
             settings,
             t_start: 0.0,
             enabled: vec![true; k],
-            ws,
+            kinematics,
             n,
             mass: vector(n * n),
             factor: Factor::new(n, diagonal),
@@ -184,6 +182,7 @@ impl Stepper {
             solved: vector((2 * k + 1) * n),
             u_tilde: vector(n),
             q_mid: vector(n),
+            u_start: vector(n),
             u_end: vector(n),
             scratch: vector(n.max(locks)),
             locks: Locks {
@@ -241,13 +240,13 @@ impl Stepper {
     }
 
     /// Kinematics at the end of the last step (or at the start state).
-    pub fn workspace(&self) -> &Workspace {
-        &self.ws
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.kinematics
     }
 
     /// Resets the record and energy account to `state` at the start of a run.
     pub fn start(&mut self, model: &Model, state: &State) -> &StepRecord {
-        self.ws.update(model, &state.q, &state.u);
+        self.kinematics.update(model, &state.q, &state.u);
         let mut energy = EnergyLedger::default();
         self.fill_energies(model, &mut energy);
         energy.initial = energy.total();
@@ -265,9 +264,9 @@ impl Stepper {
     }
 
     fn fill_energies(&self, model: &Model, energy: &mut EnergyLedger) {
-        energy.kinetic = model.kinetic_energy(&self.ws);
-        energy.potential = model.potential_energy(&self.ws);
-        energy.spring = model.spring_energy(&self.ws);
+        energy.kinetic = model.kinetic_energy(&self.kinematics);
+        energy.potential = model.potential_energy(&self.kinematics);
+        energy.spring = model.spring_energy(&self.kinematics);
     }
 
     /// `min_gap` and `max_penetration` of the record over the enabled contacts, in one pass.
@@ -275,7 +274,7 @@ impl Stepper {
         let mut min_gap = f64::INFINITY;
         for i in 0..model.contacts.len() {
             if self.enabled[i] {
-                if let Some(g) = model.contact_geometry(&self.ws, i) {
+                if let Some(g) = model.contact_geometry(&self.kinematics, i) {
                     min_gap = min_gap.min(g.gap);
                 }
             }
@@ -284,7 +283,27 @@ impl Stepper {
         self.record.max_penetration = (-min_gap).max(0.0);
     }
 
-    /// Advances `state` by one step `Δt` under `actuation` (physics.md §4, steps 1-5).
+    /// Advances `state` by one step `Δt` under `actuation`: physics.md §4 as nine stages,
+    /// run in this order and numbered the same in the body (`// Stage k`), in each stage's
+    /// doc and in docs/architecture.md ("One step, in order"):
+    ///
+    /// 1. `midpoint`: `q^M = q^A + Δt/2 u^A` (§4.1 step 1).
+    /// 2. `dynamics`: kinematics at `(q^M, u^A)`, `M(q^M)` factored as `L D Lᵀ`,
+    ///    `h(q^M, u^A)` with the motor torques (§4.1 step 2).
+    /// 3. `impulses_and_locks`: the applied impulses (§3) and the velocity locks
+    ///    `Bᵀ u^E = 0` (§4.4).
+    /// 4. `index_set`: the closed contacts `H` with their `W_N`, `W_T` and `γ^A` at `q^M`
+    ///    (§4.1 step 2).
+    /// 5. `free_velocity`: `ũ = u^A + G (h Δt + impulses)` and `G W_N`, `G W_T`, with `G`
+    ///    and `ũ` projected onto the locks (§4.3, §4.4).
+    /// 6. `solve_contact_lcp`: the frictional LCP for the percussions `Λ_N`, `Λ_T`
+    ///    (§4.1 step 3, §4.3; failures and the fallback §4.5).
+    /// 7. `end_velocity`: `u^E = ũ + G (W_N Λ_N + W_T Λ_T)` and the contact records
+    ///    (§4.1 step 4).
+    /// 8. `integrate`: `q^E = q^M + Δt/2 u^E` and `t^E` into `state`, checked; the
+    ///    kinematics at the end of the step (§4.1 step 5).
+    /// 9. `ledger`, for observers only (no later stage or step reads it): the works of
+    ///    every percussion, the lock impulses, the energies and gaps at the end (§6.1).
     pub fn step(
         &mut self,
         model: &Model,
@@ -292,55 +311,156 @@ impl Stepper {
         actuation: &Actuation,
     ) -> Result<&StepRecord, StepError> {
         let step = self.record.step + 1;
+        // Errors name the step and the time at its start.
+        let t = state.t;
+        check_state(state, self.n, step, t, f64::INFINITY, true)?;
+        // Stage 1: midpoint.
+        self.midpoint(state);
+        // Stage 2: kinematics, mass matrix and its factor, forces.
+        self.dynamics(model, actuation, step, t)?;
+        // Stage 3: applied impulses and velocity locks.
+        self.impulses_and_locks(actuation, step, t)?;
+        // Stage 4: index set.
+        let k = self.index_set(model);
+        // Stage 5: free velocity ũ and G W.
+        self.free_velocity(k);
+        // Stage 6: contact LCP.
+        self.solve_contact_lcp(model, step, t)?;
+        // Stage 7: end velocity u^E and contact records.
+        self.end_velocity(model, k);
+        // Stage 8: end position q^E and time.
+        self.integrate(model, state, step, t)?;
+        // Stage 9: energy ledger and gaps (observers only).
+        self.ledger(model, actuation);
+        Ok(&self.record)
+    }
+
+    /// Stage 1, physics.md §4.1 step 1: the midpoint `q^M = q^A + Δt/2 u^A`; keeps `u^A`
+    /// for the later stages (the state is overwritten in stage 8).
+    #[inline]
+    fn midpoint(&mut self, state: &State) {
         let dt = self.settings.dt;
-        let n = self.n;
-        let err_t = state.t;
-        check_state(state, n, step, err_t, f64::INFINITY, true)?;
         let (q, u) = (state.q.as_slice(), state.u.as_slice());
-        // 1. Midpoint.
         for ((m, q), u) in self.q_mid.iter_mut().zip(q).zip(u) {
             *m = q + 0.5 * dt * u;
         }
-        // 2. M(q^M), h(q^M, u^A), actuation.
-        self.ws.update_slices(model, &self.q_mid, u);
-        model.mass_matrix_to(&self.ws, &mut self.mass);
+        self.u_start.copy_from_slice(u);
+    }
+
+    /// Stage 2, physics.md §4.1 step 2: the kinematics at `(q^M, u^A)`, `M(q^M)` and its
+    /// `L D Lᵀ` factor, `h(q^M, u^A)` split into the damping forces and the rest, with the
+    /// motor torques as the applied forces.
+    #[inline]
+    fn dynamics(
+        &mut self,
+        model: &Model,
+        actuation: &Actuation,
+        step: u64,
+        t: f64,
+    ) -> Result<(), StepError> {
+        self.kinematics
+            .update_slices(model, &self.q_mid, &self.u_start);
+        model.mass_matrix_to(&self.kinematics, &mut self.mass);
         self.applied.fill(0.0);
-        for t in &actuation.torques {
-            self.ws
-                .add_torque_to(t.body, t.reaction, t.torque, &mut self.applied);
+        for torque in &actuation.torques {
+            self.kinematics.add_torque_to(
+                torque.body,
+                torque.reaction,
+                torque.torque,
+                &mut self.applied,
+            );
         }
-        model.forces_split(&self.ws, &self.applied, &mut self.h, &mut self.damping);
+        model.forces_split(
+            &self.kinematics,
+            &self.applied,
+            &mut self.h,
+            &mut self.damping,
+        );
+        if !self.factor.factor(&self.mass, self.n) {
+            return Err(StepError::SingularMassMatrix { step, t });
+        }
+        Ok(())
+    }
+
+    /// Stage 3: the generalised applied impulses at `q^M` (physics.md §3, `J_iᵀ ζ`) and the
+    /// velocity locks `Bᵀ u^E = 0`, prepared for eliminating their percussion (§4.4).
+    #[inline]
+    fn impulses_and_locks(
+        &mut self,
+        actuation: &Actuation,
+        step: u64,
+        t: f64,
+    ) -> Result<(), StepError> {
         self.impulse.fill(0.0);
-        for imp in &actuation.impulses {
-            match *imp {
+        for command in &actuation.impulses {
+            match *command {
                 ImpulseCommand::Point {
                     body,
                     offset,
                     impulse,
                 } => self
-                    .ws
+                    .kinematics
                     .add_point_force_to(body, offset, impulse, &mut self.impulse),
                 ImpulseCommand::Rotational {
                     body,
                     reaction,
                     impulse,
                 } => self
-                    .ws
+                    .kinematics
                     .add_torque_to(body, reaction, impulse, &mut self.impulse),
             }
         }
-        if !self.factor.factor(&self.mass, n) {
-            return Err(StepError::SingularMassMatrix { step, t: err_t });
-        }
         self.locks.count = actuation.locks.len();
-        if self.locks.count > 0 && !self.locks.prepare(&self.ws, &self.factor, &actuation.locks) {
-            return Err(StepError::SingularLocks { step, t: err_t });
+        if self.locks.count > 0
+            && !self
+                .locks
+                .prepare(&self.kinematics, &self.factor, &actuation.locks)
+        {
+            return Err(StepError::SingularLocks { step, t });
         }
-        // Index set H: enabled contacts with g_N(q^M) ≤ 0, their W_N, W_T and γ^A.
-        self.collect_active(model, u);
-        let k = self.active.len();
-        // ũ = u^A + G (h Δt + impulses) and G W_N, G W_T in one solve with M's factor,
-        // then projected onto the locks.
+        Ok(())
+    }
+
+    /// Stage 4, physics.md §4.1 step 2: the index set `H` (enabled contacts with
+    /// `g_N(q^M) ≤ 0`) with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`; returns its
+    /// size `k`.
+    fn index_set(&mut self, model: &Model) -> usize {
+        let n = self.n;
+        self.active.clear();
+        self.geometry.clear();
+        for i in 0..model.contacts.len() {
+            if !self.enabled[i] {
+                continue;
+            }
+            let Some(geom) = model.contact_geometry(&self.kinematics, i) else {
+                continue;
+            };
+            if geom.gap > 0.0 {
+                continue;
+            }
+            let c = self.active.len();
+            let rows = c * n..(c + 1) * n;
+            model.contact_directions_to(
+                &self.kinematics,
+                i,
+                &geom,
+                &mut self.w_n[rows.clone()],
+                &mut self.w_t[rows.clone()],
+            );
+            self.gamma_n[c] = dot(&self.w_n[rows.clone()], &self.u_start);
+            self.gamma_t[c] = dot(&self.w_t[rows], &self.u_start);
+            self.active.push(i);
+            self.geometry.push(geom);
+        }
+        self.active.len()
+    }
+
+    /// Stage 5, physics.md §4.3 and §4.4: `ũ = u^A + G (h Δt + impulses)` and `G W_N`,
+    /// `G W_T` of the `k` closed contacts in one solve with `M`'s factor, then projected
+    /// onto the locks (`G ← G − G B (Bᵀ G B)⁻¹ Bᵀ G`, `ũ` likewise).
+    #[inline]
+    fn free_velocity(&mut self, k: usize) {
+        let (n, dt) = (self.n, self.settings.dt);
         for ((f, h), p) in self.force.iter_mut().zip(&self.h).zip(&self.impulse) {
             *f = h * dt + p;
         }
@@ -354,98 +474,31 @@ impl Stepper {
         for row in solved[n..].chunks_exact_mut(n) {
             self.locks.project(row);
         }
-        for ((ut, a), g) in self.u_tilde.iter_mut().zip(u).zip(&self.solved[..n]) {
+        for ((ut, a), g) in self
+            .u_tilde
+            .iter_mut()
+            .zip(&self.u_start)
+            .zip(&self.solved[..n])
+        {
             *ut = a + g;
         }
         self.locks.project(&mut self.u_tilde);
-        self.record.contacts.clear();
+    }
+
+    /// Stage 6, physics.md §4.1 step 3: builds and solves the frictional contact LCP of
+    /// §4.3 for the index set (nothing to solve when it is empty); an uncertified solve
+    /// falls back to [`Stepper::solve_frictionless_lcp`] or, in strict mode, is an error
+    /// (§4.5).
+    fn solve_contact_lcp(&mut self, model: &Model, step: u64, t: f64) -> Result<(), StepError> {
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
-        if k > 0 {
-            self.solve_contacts(model, step, err_t)?;
-        }
-        // 4. u^E = ũ + G (W_N Λ_N + W_T Λ_T).
-        self.u_end.copy_from_slice(&self.u_tilde);
-        for c in 0..k {
-            axpy(
-                self.lambda_n[c],
-                row(&self.solved, n, 1 + c),
-                &mut self.u_end,
-            );
-            axpy(
-                self.lambda_t[c],
-                row(&self.solved, n, 1 + k + c),
-                &mut self.u_end,
-            );
-        }
-        if k > 0 {
-            self.fill_contact_records(model, k);
-        }
-        self.account_energy(state, actuation);
-        // 5. q^E = q^M + Δt/2 u^E.
-        for ((q, m), v) in state
-            .q
-            .as_mut_slice()
-            .iter_mut()
-            .zip(&self.q_mid)
-            .zip(&self.u_end)
-        {
-            *q = m + 0.5 * dt * v;
-        }
-        state.u.as_mut_slice().copy_from_slice(&self.u_end);
-        if step == 1 {
-            self.t_start = err_t;
-        }
-        state.t = self.t_start + step as f64 * dt;
-        check_state(state, n, step, err_t, self.settings.max_speed, false)?;
-        self.ws
-            .update_slices(model, state.q.as_slice(), state.u.as_slice());
-        let mut energy = self.record.energy;
-        self.fill_energies(model, &mut energy);
-        self.record.energy = energy;
-        self.fill_gaps(model);
-        self.record.step = step;
-        self.record.t = state.t;
-        Ok(&self.record)
-    }
-
-    /// The index set at `q^M` with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`.
-    fn collect_active(&mut self, model: &Model, u: &[f64]) {
-        let n = self.n;
-        self.active.clear();
-        self.geometry.clear();
-        for i in 0..model.contacts.len() {
-            if !self.enabled[i] {
-                continue;
-            }
-            let Some(geom) = model.contact_geometry(&self.ws, i) else {
-                continue;
-            };
-            if geom.gap > 0.0 {
-                continue;
-            }
-            let c = self.active.len();
-            let rows = c * n..(c + 1) * n;
-            model.contact_directions_to(
-                &self.ws,
-                i,
-                &geom,
-                &mut self.w_n[rows.clone()],
-                &mut self.w_t[rows.clone()],
-            );
-            self.gamma_n[c] = dot(&self.w_n[rows.clone()], u);
-            self.gamma_t[c] = dot(&self.w_t[rows], u);
-            self.active.push(i);
-            self.geometry.push(geom);
-        }
-    }
-
-    /// Builds and solves the contact LCP of physics.md §4 for the index set.
-    fn solve_contacts(&mut self, model: &Model, step: u64, t: f64) -> Result<(), StepError> {
         let n = self.n;
         let k = self.active.len();
+        if k == 0 {
+            return Ok(());
+        }
         let size = 3 * k;
-        // A (column-major, leading dimension `ld`) and b of physics.md §4.
+        // A (column-major, leading dimension `ld`) and b of physics.md §4.3.
         let ld = self.lcp_a.nrows();
         let a = self.lcp_a.as_mut_slice();
         for column in a.chunks_exact_mut(ld).take(size) {
@@ -515,12 +568,12 @@ impl Stepper {
                 status: solution.status.as_str(),
             });
         }
-        self.solve_frictionless(k, step, t)
+        self.solve_frictionless_lcp(k, step, t)
     }
 
     /// Fallback after an uncertified frictional solve (see [`Stepper`]): the normal-contact
     /// LCP `(W_Nᵀ G W_N) Λ_N + W_Nᵀ ũ + ε_N γ_N^A ⟂ Λ_N` with friction dropped for this step.
-    fn solve_frictionless(&mut self, k: usize, step: u64, t: f64) -> Result<(), StepError> {
+    fn solve_frictionless_lcp(&mut self, k: usize, step: u64, t: f64) -> Result<(), StepError> {
         let n = self.n;
         for r in 0..k {
             for c in 0..k {
@@ -552,6 +605,30 @@ impl Stepper {
             self.slip[c] = f64::NAN;
         }
         Ok(())
+    }
+
+    /// Stage 7, physics.md §4.1 step 4: `u^E = ũ + G (W_N Λ_N + W_T Λ_T)` and the records of
+    /// the `k` closed contacts.
+    #[inline]
+    fn end_velocity(&mut self, model: &Model, k: usize) {
+        let n = self.n;
+        self.u_end.copy_from_slice(&self.u_tilde);
+        for c in 0..k {
+            axpy(
+                self.lambda_n[c],
+                row(&self.solved, n, 1 + c),
+                &mut self.u_end,
+            );
+            axpy(
+                self.lambda_t[c],
+                row(&self.solved, n, 1 + k + c),
+                &mut self.u_end,
+            );
+        }
+        self.record.contacts.clear();
+        if k > 0 {
+            self.fill_contact_records(model, k);
+        }
     }
 
     /// The contact records of the step (after `u^E` is known).
@@ -589,15 +666,60 @@ impl Stepper {
         }
     }
 
-    /// Adds the step's works to the ledger: each impulse times `(u^A + u^E)/2`, and the
-    /// velocity-lock impulses `P` (from `M (u^E − u^A) = h Δt + impulses + W Λ + B P`) to
-    /// the record.
-    fn account_energy(&mut self, state: &State, actuation: &Actuation) {
+    /// Stage 8, physics.md §4.1 step 5: `q^E = q^M + Δt/2 u^E`, `u^E` and `t^E` into `state`
+    /// (`t_start`, the start time `t` of the first step, plus `step Δt`), checked, and the
+    /// kinematics at `(q^E, u^E)` (for the controller and the ledger).
+    #[inline]
+    fn integrate(
+        &mut self,
+        model: &Model,
+        state: &mut State,
+        step: u64,
+        t: f64,
+    ) -> Result<(), StepError> {
+        let dt = self.settings.dt;
+        for ((q, m), v) in state
+            .q
+            .as_mut_slice()
+            .iter_mut()
+            .zip(&self.q_mid)
+            .zip(&self.u_end)
+        {
+            *q = m + 0.5 * dt * v;
+        }
+        state.u.as_mut_slice().copy_from_slice(&self.u_end);
+        if step == 1 {
+            self.t_start = t;
+        }
+        state.t = self.t_start + step as f64 * dt;
+        check_state(state, self.n, step, t, self.settings.max_speed, false)?;
+        self.kinematics
+            .update_slices(model, state.q.as_slice(), state.u.as_slice());
+        self.record.step = step;
+        self.record.t = state.t;
+        Ok(())
+    }
+
+    /// Stage 9, for observers only (physics.md §6.1): the step's works and lock impulses
+    /// ([`Stepper::add_works`]), then the energies and the gaps at the end of the step.
+    #[inline]
+    fn ledger(&mut self, model: &Model, actuation: &Actuation) {
+        self.add_works(actuation);
+        let mut energy = self.record.energy;
+        self.fill_energies(model, &mut energy);
+        self.record.energy = energy;
+        self.fill_gaps(model);
+    }
+
+    /// Adds the step's works to the ledger (physics.md §6.1): each percussion times
+    /// `(u^A + u^E)/2`; and the velocity-lock impulses `P` (from
+    /// `M (u^E − u^A) = h Δt + impulses + W Λ + B P`, §4.4) to the record.
+    fn add_works(&mut self, actuation: &Actuation) {
         let n = self.n;
         let dt = self.settings.dt;
         let k = self.active.len();
-        let u = state.u.as_slice();
-        // The mean velocity (u^A + u^E)/2 and the contact force W Λ.
+        let u = &self.u_start;
+        // The mean velocity (u^A + u^E)/2.
         let mean = &mut self.scratch[..n];
         for ((m, a), e) in mean.iter_mut().zip(u).zip(&self.u_end) {
             *m = 0.5 * (a + e);
@@ -649,7 +771,7 @@ fn row(data: &[f64], n: usize, i: usize) -> &[f64] {
     &data[i * n..(i + 1) * n]
 }
 
-/// The velocity locks (brakes) of one step, `Bᵀ u^E = 0` (physics.md §4): row-major
+/// The velocity locks (brakes) of one step, `Bᵀ u^E = 0` (physics.md §4.4): row-major
 /// `l × n` buffers with the rows `b_c = ∂(θ_body − θ_other)/∂q` of `Bᵀ` and
 /// `y_c = M⁻¹ b_c`, the factor of `S = Bᵀ M⁻¹ B` and an `l`-vector.
 struct Locks {
@@ -665,12 +787,17 @@ struct Locks {
 impl Locks {
     /// Builds `B`, `Y = M⁻¹ B` (`factor`: that of `M`) and factors `S`; `false` when `S` is
     /// singular (redundant locks).
-    fn prepare(&mut self, ws: &Workspace, factor: &Factor, locks: &[(usize, usize)]) -> bool {
+    fn prepare(
+        &mut self,
+        kinematics: &Kinematics,
+        factor: &Factor,
+        locks: &[(usize, usize)],
+    ) -> bool {
         let (n, l) = (self.n, self.count);
         for (c, &(a, b)) in locks.iter().enumerate() {
             let row = &mut self.b[c * n..(c + 1) * n];
             row.fill(0.0);
-            ws.add_torque_to(a, Some(b), 1.0, row);
+            kinematics.add_torque_to(a, Some(b), 1.0, row);
         }
         self.y[..l * n].copy_from_slice(&self.b[..l * n]);
         factor.solve(&mut self.y[..l * n]);

@@ -9,7 +9,8 @@
 
 use crate::StepRecord;
 use hopsim_model::Model;
-use std::collections::BTreeMap;
+use std::collections::hash_map::Entry;
+use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -17,6 +18,9 @@ use std::path::Path;
 const HEADER: &str = "# hopsim impulse trace v1";
 /// Column names (second line).
 const COLUMNS: &str = "step,t_s,channel,normal_Ns,tangent_Ns";
+/// Largest trace file [`ImpulseTrace::read`] reads, bytes (1 GiB: about fifteen million
+/// rows, some thousand seconds of a run with contacts at every step).
+pub const MAX_TRACE_BYTES: u64 = 1 << 30;
 /// Environment variable that makes [`ImpulseTrace::check_golden`] rewrite golden files.
 pub const BLESS_ENV: &str = "HOPSIM_BLESS";
 
@@ -70,7 +74,7 @@ pub struct TraceDifference {
     pub expected: f64,
     /// Value in the other trace (0 if it has no such sample).
     pub found: f64,
-    /// Number of differing samples in all.
+    /// Number of differing samples (`(step, channel)` pairs) in all.
     pub count: usize,
     /// Largest absolute difference over all samples.
     pub max_abs: f64,
@@ -180,6 +184,8 @@ impl ImpulseTrace {
             }
         }
         let mut samples = Vec::new();
+        // The line of each (step, channel) seen: a second row would silently win.
+        let mut first_line: HashMap<(u64, String), usize> = HashMap::new();
         for (i, line) in lines {
             if line.trim().is_empty() {
                 continue;
@@ -198,7 +204,7 @@ impl ImpulseTrace {
                     .filter(|x| x.is_finite())
                     .ok_or_else(|| err(i + 1, format!("{name} '{v}' is not a finite number")))
             };
-            samples.push(ImpulseSample {
+            let sample = ImpulseSample {
                 step: step
                     .parse()
                     .map_err(|_| err(i + 1, format!("step '{step}' is not an integer")))?,
@@ -206,14 +212,33 @@ impl ImpulseTrace {
                 channel: channel.to_string(),
                 normal: number("normal_Ns", normal)?,
                 tangent: number("tangent_Ns", tangent)?,
-            });
+            };
+            match first_line.entry((sample.step, sample.channel.clone())) {
+                Entry::Occupied(first) => {
+                    return Err(err(
+                        i + 1,
+                        format!(
+                            "duplicate row for step {}, channel {} (first at line {})",
+                            sample.step,
+                            sample.channel,
+                            first.get()
+                        ),
+                    ))
+                }
+                Entry::Vacant(slot) => {
+                    slot.insert(i + 1);
+                }
+            }
+            samples.push(sample);
         }
         Ok(Self { samples })
     }
 
-    /// Reads a trace file.
+    /// Reads a trace file of at most [`MAX_TRACE_BYTES`]; a NUL byte ends the read as not
+    /// text (so `/dev/zero`, `/dev/urandom` or an endless pipe is an error, not an exhausted
+    /// memory).
     pub fn read(path: &Path) -> Result<Self, TraceError> {
-        let text = std::fs::read_to_string(path).map_err(|source| TraceError::Io {
+        let text = read_text(path, MAX_TRACE_BYTES).map_err(|source| TraceError::Io {
             path: path.display().to_string(),
             source,
         })?;
@@ -230,28 +255,25 @@ impl ImpulseTrace {
         })
     }
 
-    /// Compares `other` against `self` (the reference); `None` when every sample agrees
-    /// within `tol` (a sample missing on one side counts as zero there).
-    pub fn compare(&self, other: &Self, tol: TraceTolerance) -> Option<TraceDifference> {
-        type Key<'a> = (u64, &'a str);
-        fn index(trace: &ImpulseTrace) -> BTreeMap<Key<'_>, &ImpulseSample> {
-            trace
-                .samples
-                .iter()
-                .map(|s| ((s.step, s.channel.as_str()), s))
-                .collect()
-        }
+    /// The samples a comparison of `self` with `other` looks at: the distinct
+    /// `(step, channel)` pairs of both traces.
+    pub fn compared_samples(&self, other: &Self) -> usize {
+        sample_keys(self, other).len()
+    }
+
+    /// The first sample of `other` that differs from `self` (the reference) beyond `tol`,
+    /// with the number of differing samples; `None` when every sample agrees (a sample
+    /// missing on one side counts as zero there).
+    pub fn first_difference(&self, other: &Self, tol: TraceTolerance) -> Option<TraceDifference> {
         let (a, b) = (index(self), index(other));
-        let mut keys: Vec<Key<'_>> = a.keys().chain(b.keys()).copied().collect();
-        keys.sort_unstable();
-        keys.dedup();
         let mut first: Option<TraceDifference> = None;
         let (mut count, mut max_abs) = (0, 0.0_f64);
-        for key in keys {
+        for key in sample_keys(self, other) {
             let (sa, sb) = (a.get(&key), b.get(&key));
             let t = sa.or(sb).map_or(0.0, |s| s.t);
             let pick =
                 |s: Option<&&ImpulseSample>, f: fn(&ImpulseSample) -> f64| s.map_or(0.0, |s| f(s));
+            let mut differs = false;
             for (component, f) in [
                 (
                     "normal",
@@ -264,7 +286,7 @@ impl ImpulseTrace {
                 if diff <= tol.abs + tol.rel * x.abs().max(y.abs()) {
                     continue;
                 }
-                count += 1;
+                differs = true;
                 max_abs = max_abs.max(diff);
                 first.get_or_insert_with(|| TraceDifference {
                     step: key.0,
@@ -277,6 +299,7 @@ impl ImpulseTrace {
                     max_abs: 0.0,
                 });
             }
+            count += usize::from(differs);
         }
         first.map(|d| TraceDifference {
             count,
@@ -299,11 +322,88 @@ impl ImpulseTrace {
             return Err(format!("{}: golden trace missing; {how}", path.display()));
         }
         let golden = Self::read(path).map_err(|e| e.to_string())?;
-        match golden.compare(self, tol) {
+        match golden.first_difference(self, tol) {
             None => Ok(()),
             Some(d) => Err(format!("{}: {d}; {how}", path.display())),
         }
     }
+}
+
+/// The text of the file at `path`: at most `limit` bytes of UTF-8 without NUL bytes. A
+/// regular file above the limit is refused unread; any other input is read in blocks and
+/// refused at its first NUL byte or at the limit.
+fn read_text(path: &Path, limit: u64) -> std::io::Result<String> {
+    use std::io::{Error, ErrorKind, Read};
+    let too_large = || {
+        Error::new(
+            ErrorKind::FileTooLarge,
+            format!(
+                "the file is larger than the {} MiB limit of impulse traces",
+                limit >> 20
+            ),
+        )
+    };
+    let mut file = std::fs::File::open(path)?;
+    if file
+        .metadata()
+        .is_ok_and(|m| m.is_file() && m.len() > limit)
+    {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    let mut block = vec![0u8; 1 << 16];
+    loop {
+        let n = match file.read(&mut block) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if let Some(i) = block[..n].iter().position(|&b| b == 0) {
+            return Err(Error::new(
+                ErrorKind::InvalidData,
+                format!("not a text file (NUL byte at offset {})", bytes.len() + i),
+            ));
+        }
+        if (bytes.len() + n) as u64 > limit {
+            return Err(too_large());
+        }
+        bytes.extend_from_slice(&block[..n]);
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        Error::new(
+            ErrorKind::InvalidData,
+            format!(
+                "not a text file (invalid UTF-8 at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+/// A trace's sample identity: step and channel.
+type SampleKey<'a> = (u64, &'a str);
+
+/// The samples of `trace` by step and channel.
+fn index(trace: &ImpulseTrace) -> BTreeMap<SampleKey<'_>, &ImpulseSample> {
+    trace
+        .samples
+        .iter()
+        .map(|s| ((s.step, s.channel.as_str()), s))
+        .collect()
+}
+
+/// The distinct `(step, channel)` pairs of two traces, sorted.
+fn sample_keys<'a>(a: &'a ImpulseTrace, b: &'a ImpulseTrace) -> Vec<SampleKey<'a>> {
+    let mut keys: Vec<SampleKey<'a>> = a
+        .samples
+        .iter()
+        .chain(&b.samples)
+        .map(|s| (s.step, s.channel.as_str()))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys
 }
 
 #[cfg(test)]
@@ -341,26 +441,44 @@ mod tests {
             sample(2, "c", 1.0, 0.5),
             sample(3, "c", 1.0, 0.5),
         ]);
-        assert_eq!(a.compare(&a.clone(), TraceTolerance::default()), None);
+        let tol = TraceTolerance::default();
+        assert_eq!(a.first_difference(&a.clone(), tol), None);
         let mut b = a.clone();
         b.samples[1].tangent = 0.5 + 1e-3;
         b.samples[2].normal = 2.0;
-        let d = a.compare(&b, TraceTolerance::default()).unwrap();
+        let d = a.first_difference(&b, tol).unwrap();
         assert_eq!(
             (d.step, d.channel.as_str(), d.component),
             (2, "c", "tangent")
         );
         assert_eq!(d.count, 2);
         assert!((d.max_abs - 1.0).abs() < 1e-15);
+        // Both components of one sample: one differing sample.
+        b.samples[2].tangent = 0.7;
+        assert_eq!(a.first_difference(&b, tol).unwrap().count, 2);
+    }
+
+    #[test]
+    fn samples_are_counted_by_step_and_channel_over_both_traces() {
+        let a = trace(vec![sample(1, "c", 1.0, 0.5), sample(1, "d", 1.0, 0.5)]);
+        let b = trace(vec![sample(1, "c", 3.0, 0.1), sample(2, "c", 1.0, 0.5)]);
+        assert_eq!(a.compared_samples(&b), 3);
+        assert_eq!(a.compared_samples(&a), 2);
+        let d = a.first_difference(&b, TraceTolerance::default()).unwrap();
+        assert_eq!(
+            (d.step, d.channel.as_str(), d.component),
+            (1, "c", "normal")
+        );
+        assert_eq!(d.count, 3);
     }
 
     #[test]
     fn a_missing_sample_counts_as_zero() {
         let a = trace(vec![sample(1, "c", 1.0, 0.0), sample(2, "d", 1e-12, 0.0)]);
         let b = trace(vec![sample(1, "c", 1.0, 0.0)]);
-        assert_eq!(a.compare(&b, TraceTolerance::default()), None);
+        assert_eq!(a.first_difference(&b, TraceTolerance::default()), None);
         let c = trace(vec![sample(1, "c", 1.0, 0.0), sample(2, "d", 0.1, 0.0)]);
-        let d = b.compare(&c, TraceTolerance::default()).unwrap();
+        let d = b.first_difference(&c, TraceTolerance::default()).unwrap();
         assert_eq!((d.step, d.expected, d.found), (2, 0.0, 0.1));
     }
 

@@ -196,7 +196,7 @@ fn the_record_carries_the_smallest_gap_of_the_enabled_contacts() {
     for _ in 0..3 {
         st.step(&model, &mut s, &act).unwrap();
         let min = (0..model.contacts.len())
-            .filter_map(|i| model.contact_geometry(st.workspace(), i))
+            .filter_map(|i| model.contact_geometry(st.kinematics(), i))
             .map(|g| g.gap)
             .fold(f64::INFINITY, f64::min);
         let rec = st.record();

@@ -165,7 +165,7 @@ proptest! {
         for _ in 0..50 {
             st.start(&model, &s);
             let lowest = (0..model.contacts.len())
-                .filter_map(|i| model.contact_geometry(st.workspace(), i))
+                .filter_map(|i| model.contact_geometry(st.kinematics(), i))
                 .map(|g| g.gap)
                 .fold(f64::INFINITY, f64::min);
             prop_assume!(lowest.is_finite());

@@ -5,12 +5,25 @@
 //!
 //! * [`report`]: the [`Report`] trait, text tables, number formatting, writing files.
 //! * [`plot`]: line plots, heatmaps and category maps as PNG + SVG.
-//! * [`robbit_gait`]: Robbit in the time-stepper, the cross-check of a predicted gait.
+//! * [`robbit_gait`]: Robbit in the time-stepper, the cross-check of a predicted gait;
+//!   [`fixed_points`]: Robbit's periodic gaits and their stability over a grid.
+//! * [`run_summary`]: a scene's run and its summary with the controller's sections;
+//!   [`sweep`]: a scene over a grid of parameters, with its CSV and figure.
+//! * [`template`], [`obstacle`], [`impulsive_wheel`]: the reduced models of physics.md
+//!   §5.1, §5.2 and §5.5 as studies.
+//! * [`progress`]: how studies report progress over their grids.
 
 pub mod error;
+pub mod fixed_points;
+pub mod impulsive_wheel;
+pub mod obstacle;
 pub mod plot;
+pub mod progress;
 pub mod report;
 pub mod robbit_gait;
+pub mod run_summary;
+pub mod sweep;
+pub mod template;
 
 pub use error::{Result, StudyError};
 pub use report::{write_files, AnyFigure, Report, ReportFile, Table};

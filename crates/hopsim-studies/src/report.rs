@@ -202,7 +202,7 @@ mod tests {
         assert_eq!(num(0.123456, "m"), "0.12346 m");
         assert_eq!(num(1234.5678, ""), "1234.6");
         assert_eq!(num(1.5e-5, "s"), "1.5000e-5 s");
-        assert_eq!(num_range(0.0, 2.0, "J"), "0 J … 2.0000 J");
+        assert_eq!(num_range(0.0, 2.0, "J"), "0.0000 J … 2.0000 J");
     }
 
     #[test]

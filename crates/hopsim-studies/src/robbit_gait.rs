@@ -1,12 +1,13 @@
 //! Robbit in the time-stepper (physics.md §4, §5.3): the cross-check of the reduced model
 //! of `hopsim_analysis::robbit` and `hopsim_analysis::fixed_points`.
 //!
-//! [`robbit_model`] builds the two-body model (disc + flywheel pivoting at the CoM) for
-//! `hopsim-step`; [`simulate_from_rest`] runs it from rest on the ground under
-//! hopsim-control's `MomentumImpulse` controller with a control `β` ([`simulate`] from any
-//! state) and records the state at every brake (the Poincaré section of the reduced
-//! model); [`compare`] measures how the recorded take-off states approach a predicted
-//! fixed point.
+//! [`robbit_scene`] is `scenes/robbit.toml` (Robbit's one model) with the parameters, the
+//! control and the start of a run set as overrides; [`simulate_from_rest`] runs it from rest
+//! on the ground in `hopsim_sim::Simulation` under hopsim-control's `MomentumImpulse`
+//! controller with a control `β` ([`simulate`] from any state) and records the state at
+//! every brake (the Poincaré section of the reduced model);
+//! [`convergence_to_prediction`] measures how the recorded take-off states approach a
+//! predicted fixed point.
 //!
 //! `MomentumImpulse` locks the flywheel for the one step of the brake and leaves it free
 //! afterwards, which is [`FlywheelAtTouchdown::Free`]. For [`FlywheelAtTouchdown::Locked`]
@@ -14,50 +15,24 @@
 //! switches the motor on again (the step after touchdown): the touchdown impact then acts
 //! on the locked pair, as in the reduced model.
 
-use crate::error::{Result, StudyError};
+use crate::error::Result;
 use hopsim_analysis::fixed_points::FixedPoint;
 use hopsim_analysis::robbit::{Control, FlywheelAtTouchdown, RobbitParams, SectionState};
-use hopsim_analysis::AnalysisError;
-use hopsim_control::{
-    ControlEvent, ControlInput, Controller, MomentumImpulse, MomentumImpulseConfig,
-};
-use hopsim_model::{Body, ContactMaterial, Model, Shape, ShapeInstance, Terrain, Vec2};
-use hopsim_step::{Actuation, State, StepSettings, Stepper};
+use hopsim_record::EventKind;
+use hopsim_scene::{Override, Scene};
+use hopsim_sim::{Observer, RunError, Simulation, StepView};
+use hopsim_step::State;
 use nalgebra::DVector;
 use serde::Serialize;
 use std::f64::consts::PI;
+use std::path::Path;
 
-/// Index of the flywheel body in [`robbit_model`].
-pub const FLYWHEEL: usize = 1;
-
-/// Robbit for the time-stepper: body 0 the disc (mass `m_S`, inertia `I_S`, circle of
-/// radius `R` centred `a` above the CoM at `φ = 0`), body 1 the flywheel (`m_R`, `I_R`)
-/// on an absolute-angle joint at the disc's CoM, flat ground, `ε = 0`, friction `μ`.
-///
-/// The disc's CoM is the robot's CoM because the flywheel's mass sits on it, so the
-/// mass matrix is `diag(m, m, I_S, I_R)` as in physics.md §5.3.
-pub fn robbit_model(p: &RobbitParams) -> Result<Model> {
-    p.validate()?;
-    Model::new(
-        vec![
-            Body::base("disc", p.body_mass, p.body_inertia),
-            Body::flywheel("flywheel", p.flywheel_mass, p.flywheel_inertia, 0),
-        ],
-        vec![ShapeInstance {
-            name: "disc".into(),
-            body: 0,
-            shape: Shape::Circle {
-                center: Vec2::new(0.0, p.eccentricity),
-                radius: p.radius,
-            },
-        }],
-        Terrain::flat(0.0),
-        vec![],
-        Vec2::new(0.0, -p.gravity),
-        ContactMaterial::inelastic(p.friction),
-    )
-    .map_err(StudyError::from)
-}
+/// `scenes/robbit.toml`, the scene [`robbit_scene`] starts from.
+const SCENE_TEXT: &str = include_str!("../../../scenes/robbit.toml");
+/// Where [`SCENE_TEXT`] comes from (named in scene errors).
+const SCENE_PATH: &str = "scenes/robbit.toml";
+/// The option named in errors about the overrides of [`robbit_scene`].
+const OVERRIDE_SOURCE: &str = "Robbit's gait check";
 
 /// Settings of a time-stepper run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -137,6 +112,66 @@ pub fn section_state(p: &RobbitParams, z: &SectionState, impulse_limit: f64) -> 
     }
 }
 
+/// A number as TOML text (shortest round-trip form, so the scene reads back the same `f64`).
+fn toml_number(value: f64) -> String {
+    format!("{value:?}")
+}
+
+/// A list of numbers as a TOML array.
+fn toml_array(values: &[f64]) -> String {
+    let items: Vec<String> = values.iter().map(|&v| toml_number(v)).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// `scenes/robbit.toml` with Robbit's parameters `p` (disc `R`, `a`, `m_S`, `I_S`;
+/// flywheel `m_R`, `I_R`; `μ`, `g`), the controller's `β`, rearm timeout and `hold_brake`
+/// (held when `p.touchdown` is [`FlywheelAtTouchdown::Locked`], module docs), `Δt`, the
+/// duration, strict LCP solves (a run stops on the first uncertified contact LCP), and the
+/// state `initial`.
+pub fn robbit_scene(
+    p: &RobbitParams,
+    control: &Control,
+    settings: &StepperSettings,
+    initial: &State,
+) -> Result<Scene> {
+    p.validate()?;
+    let number = |key: &str, value: f64| (key.to_string(), toml_number(value));
+    let settings_overrides = [
+        number("simulation.dt", settings.dt),
+        number("simulation.duration", settings.duration),
+        number("simulation.gravity", p.gravity),
+        ("simulation.strict".into(), "true".into()),
+        number("environment.friction", p.friction),
+        number("bodies.disc.mass", p.body_mass),
+        number("bodies.disc.inertia", p.body_inertia),
+        number("bodies.flywheel.mass", p.flywheel_mass),
+        number("bodies.flywheel.inertia", p.flywheel_inertia),
+        (
+            "shapes.disc.center".into(),
+            toml_array(&[0.0, p.eccentricity]),
+        ),
+        number("shapes.disc.radius", p.radius),
+        number("controller.torque", control.torque),
+        number("controller.impulse_limit", control.impulse_limit),
+        number("controller.rearm_timeout", settings.rearm_timeout),
+        (
+            "controller.hold_brake".into(),
+            (p.touchdown == FlywheelAtTouchdown::Locked).to_string(),
+        ),
+        ("initial.q".into(), toml_array(initial.q.as_slice())),
+        ("initial.u".into(), toml_array(initial.u.as_slice())),
+    ];
+    let overrides: Vec<Override> = settings_overrides
+        .into_iter()
+        .map(|(key, value)| Override::from_flag(OVERRIDE_SOURCE, key, value))
+        .collect();
+    Ok(hopsim_scene::parse(
+        SCENE_TEXT,
+        Path::new(SCENE_PATH),
+        &overrides,
+    )?)
+}
+
 /// Runs Robbit from rest on the ground ([`rest_state`]) under the momentum-stored-impulse
 /// controller with `control` ([`simulate`]).
 pub fn simulate_from_rest(
@@ -147,17 +182,15 @@ pub fn simulate_from_rest(
     simulate(p, control, settings, rest_state(p))
 }
 
-/// Runs Robbit from `initial` (its controller starting in stance, motor on) under the
-/// momentum-stored-impulse controller with `control`, strict LCP solves, and records every
-/// brake. The flywheel is held braked until the motor restarts when `p.touchdown` is
-/// [`FlywheelAtTouchdown::Locked`] (module docs).
+/// Runs Robbit's scene ([`robbit_scene`]) from `initial` (its controller starting in
+/// stance, motor on) under the momentum-stored-impulse controller with `control`, and
+/// records every brake.
 pub fn simulate(
     p: &RobbitParams,
     control: &Control,
     settings: &StepperSettings,
     initial: State,
 ) -> Result<StepperRun> {
-    let model = robbit_model(p)?;
     for (name, value) in [
         ("dt", settings.dt),
         ("duration", settings.duration),
@@ -167,79 +200,99 @@ pub fn simulate(
     ] {
         hopsim_analysis::error::require_positive(name, value)?;
     }
-    if initial.q.len() != model.dof() || initial.u.len() != model.dof() {
-        return Err(AnalysisError::Dimension(format!(
-            "Robbit's state has {} coordinates",
-            model.dof()
-        ))
-        .into());
-    }
-    let mut stepper = Stepper::new(&model, StepSettings::strict(settings.dt));
-    let mut controller = MomentumImpulse::new(
-        MomentumImpulseConfig {
-            flywheel: FLYWHEEL,
-            torque: control.torque,
-            impulse_limit: control.impulse_limit,
-            rearm_timeout: settings.rearm_timeout,
-            hold_brake: p.touchdown == FlywheelAtTouchdown::Locked,
-        },
-        &model,
-    );
-    let mut state = initial;
-    stepper.start(&model, &state);
-    let shapes_active = vec![true; model.shapes.len()];
-    let mut actuation = Actuation::default();
-    let mut events = Vec::new();
-    let mut in_contact = true;
-    let mut brakes = Vec::new();
-    let mut max_penetration: f64 = 0.0;
-    let i_red = p.reduced_inertia();
+    let scene = robbit_scene(p, control, settings, &initial)?;
+    let mut sim = Simulation::new(&scene);
+    let mut brakes = BrakeRecorder::new(p);
+    sim.start(&mut brakes)?;
     let steps = (settings.duration / settings.dt).round() as u64;
     for _ in 0..steps {
-        actuation.clear();
-        events.clear();
-        let input = ControlInput {
-            model: &model,
-            state: &state,
-            dt: settings.dt,
-            kinematics: stepper.workspace(),
-            in_contact,
-            shapes_active: &shapes_active,
-        };
-        controller.control(&input, &mut actuation, &mut events);
-        let braked = events
-            .iter()
-            .any(|e| matches!(e, ControlEvent::Brake { .. }));
-        let before = (state.t, state.q[0], state.q[2], state.u[2], state.u[3]);
-        let record = stepper
-            .step(&model, &mut state, &actuation)
-            .map_err(hopsim_sim::RunError::from)?;
-        in_contact = record.in_contact();
-        max_penetration = max_penetration.max(record.max_penetration);
-        if braked {
-            let (t, x, phi, phi_dot, psi_dot) = before;
-            brakes.push(BrakeEvent {
-                t,
-                x,
-                state: SectionState {
-                    angle: phi,
-                    angular_velocity: phi_dot,
-                },
-                stored_impulse: i_red * (psi_dot - phi_dot),
-                lock_impulse: record.locks.first().map_or(0.0, |l| l.impulse),
-            });
-        }
+        sim.step(&mut brakes)?;
     }
-    let energy = stepper.record().energy;
+    let energy = sim.stepper().record().energy;
     Ok(StepperRun {
         control: *control,
         settings: *settings,
-        brakes,
-        final_x: state.q[0],
-        max_penetration,
+        brakes: brakes.brakes,
+        final_x: sim.state().q[0],
+        max_penetration: brakes.max_penetration,
         energy_balance_error: energy.balance_error(),
         actuator_work: energy.actuator_work,
     })
+}
+
+/// `(t, x, φ, φ̇, ψ̇)` of a state.
+#[derive(Clone, Copy, Default)]
+struct Snapshot {
+    t: f64,
+    x: f64,
+    phi: f64,
+    phi_dot: f64,
+    psi_dot: f64,
+}
+
+impl Snapshot {
+    fn of(state: &State) -> Self {
+        Snapshot {
+            t: state.t,
+            x: state.q[0],
+            phi: state.q[2],
+            phi_dot: state.u[2],
+            psi_dot: state.u[3],
+        }
+    }
+}
+
+/// Observes a run of Robbit's scene: the state at the start of every step with a brake
+/// event, and the largest penetration.
+struct BrakeRecorder {
+    /// `I_red = I_S I_R / (I_S + I_R)` [kg m²].
+    reduced_inertia: f64,
+    /// The state at the start of the step being taken.
+    before: Snapshot,
+    brakes: Vec<BrakeEvent>,
+    max_penetration: f64,
+}
+
+impl BrakeRecorder {
+    fn new(p: &RobbitParams) -> Self {
+        BrakeRecorder {
+            reduced_inertia: p.reduced_inertia(),
+            before: Snapshot::default(),
+            brakes: Vec::new(),
+            max_penetration: 0.0,
+        }
+    }
+}
+
+impl Observer for BrakeRecorder {
+    fn on_start(&mut self, view: &StepView<'_>) -> std::result::Result<(), RunError> {
+        self.before = Snapshot::of(view.state);
+        Ok(())
+    }
+
+    fn on_step(&mut self, view: &StepView<'_>) -> std::result::Result<(), RunError> {
+        let record = view.record;
+        self.max_penetration = self.max_penetration.max(record.max_penetration);
+        if view
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Brake { .. }))
+        {
+            let b = self.before;
+            self.brakes.push(BrakeEvent {
+                t: b.t,
+                x: b.x,
+                state: SectionState {
+                    angle: b.phi,
+                    angular_velocity: b.phi_dot,
+                },
+                stored_impulse: self.reduced_inertia * (b.psi_dot - b.phi_dot),
+                lock_impulse: record.locks.first().map_or(0.0, |l| l.impulse),
+            });
+        }
+        self.before = Snapshot::of(view.state);
+        Ok(())
+    }
 }
 
 /// One simulated take-off compared with the predicted fixed point.
@@ -257,7 +310,7 @@ pub struct TakeoffDifference {
 
 /// How the time-stepper's take-off states compare with a fixed point.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GaitComparison {
+pub struct GaitConvergence {
     /// Predicted `z* = (φ*, φ̇*)`.
     pub predicted: SectionState,
     /// Predicted speed `stride / period` [m/s].
@@ -284,7 +337,7 @@ pub struct GaitComparison {
     pub converged: bool,
 }
 
-/// Tolerances of [`compare`]: how close the time-stepper's take-off states must come to
+/// Tolerances of [`convergence_to_prediction`]: how close the time-stepper's take-off states must come to
 /// the predicted fixed point to count as "converged to the predicted gait".
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct GaitTolerance {
@@ -317,14 +370,15 @@ fn wrapped(angle: f64, reference: f64) -> f64 {
     }
 }
 
-/// Compares the brakes of `run` with `fixed_point` over the last `window` brakes (all but
-/// the first when there are fewer); `None` without at least two brakes.
-pub fn compare(
+/// How the take-off states at the brakes of `run` approach the predicted `fixed_point`:
+/// every brake's difference, and the largest over the last `window` brakes (all but the
+/// first when there are fewer) against `tolerance`; `None` without at least two brakes.
+pub fn convergence_to_prediction(
     fixed_point: &FixedPoint,
     run: &StepperRun,
     window: usize,
     tolerance: &GaitTolerance,
-) -> Option<GaitComparison> {
+) -> Option<GaitConvergence> {
     let z = fixed_point.state;
     let takeoffs: Vec<TakeoffDifference> = run
         .brakes
@@ -349,7 +403,7 @@ pub fn compare(
     let elapsed = final_brake.t - first.t;
     let max_angle_error = last.iter().map(|d| d.angle_error.abs()).fold(0.0, f64::max);
     let max_rate_error = last.iter().map(|d| d.rate_error.abs()).fold(0.0, f64::max);
-    Some(GaitComparison {
+    Some(GaitConvergence {
         predicted: z,
         predicted_speed: fixed_point.speed(),
         predicted_period: fixed_point.cycle.period,
@@ -363,4 +417,109 @@ pub fn compare(
         rate_tolerance: tolerance.rate,
         converged: max_angle_error <= tolerance.angle && max_rate_error <= tolerance.rate,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hopsim_control::{ControllerConfig, MomentumImpulseConfig};
+    use hopsim_model::{ContactMaterial, Shape, Vec2};
+
+    /// Every parameter, the control, the settings and the start reach the scene exactly.
+    #[test]
+    fn the_scene_carries_every_parameter() {
+        let p = RobbitParams {
+            radius: 0.25,
+            eccentricity: 0.07,
+            body_mass: 1.1,
+            flywheel_mass: 0.3,
+            body_inertia: 4.1e-3,
+            flywheel_inertia: 1.3e-3,
+            friction: 0.8,
+            gravity: 9.7,
+            touchdown: FlywheelAtTouchdown::Free,
+        };
+        let control = Control {
+            torque: 0.21,
+            impulse_limit: 0.047,
+        };
+        let settings = StepperSettings {
+            dt: 1e-4,
+            duration: 2.0,
+            rearm_timeout: 0.5,
+        };
+        let z = SectionState {
+            angle: -0.7,
+            angular_velocity: -2.1,
+        };
+        let initial = section_state(&p, &z, control.impulse_limit);
+        let scene = robbit_scene(&p, &control, &settings, &initial).unwrap();
+        let m = &scene.model;
+        let masses: Vec<(f64, f64)> = m.bodies.iter().map(|b| (b.mass, b.inertia)).collect();
+        assert_eq!(masses, [(1.1, 4.1e-3), (0.3, 1.3e-3)]);
+        assert_eq!(
+            m.shapes[0].shape,
+            Shape::Circle {
+                center: Vec2::new(0.0, 0.07),
+                radius: 0.25
+            }
+        );
+        assert_eq!(m.gravity, Vec2::new(0.0, -9.7));
+        assert!(m
+            .contacts
+            .iter()
+            .all(|c| c.material == ContactMaterial::inelastic(0.8)));
+        let s = scene.step_settings();
+        assert_eq!((s.dt, scene.settings.duration, s.strict), (1e-4, 2.0, true));
+        assert_eq!(
+            scene.controller,
+            ControllerConfig::MomentumImpulse(MomentumImpulseConfig {
+                flywheel: 1,
+                torque: 0.21,
+                impulse_limit: 0.047,
+                rearm_timeout: 0.5,
+                hold_brake: false,
+            })
+        );
+        assert_eq!(scene.initial, initial);
+        let locked = RobbitParams {
+            touchdown: FlywheelAtTouchdown::Locked,
+            ..p
+        };
+        let scene = robbit_scene(&locked, &control, &settings, &rest_state(&locked)).unwrap();
+        assert!(matches!(
+            scene.controller,
+            ControllerConfig::MomentumImpulse(MomentumImpulseConfig {
+                hold_brake: true,
+                ..
+            })
+        ));
+        assert_eq!(scene.initial, rest_state(&locked));
+    }
+
+    /// Invalid values are typed errors: the model's parameters, the scene's checks.
+    #[test]
+    fn invalid_runs_are_typed_errors() {
+        let p = RobbitParams::default();
+        let control = Control {
+            torque: 0.2,
+            impulse_limit: 0.05,
+        };
+        let short = StepperSettings {
+            dt: 0.5,
+            duration: 0.1,
+            ..StepperSettings::default()
+        };
+        let err = simulate_from_rest(&p, &control, &short).unwrap_err();
+        assert!(
+            matches!(err, crate::StudyError::Scene(_)) && err.is_invalid_input(),
+            "{err}"
+        );
+        let negative = Control {
+            torque: -0.2,
+            ..control
+        };
+        let err = simulate_from_rest(&p, &negative, &StepperSettings::default()).unwrap_err();
+        assert!(err.is_invalid_input(), "{err}");
+    }
 }

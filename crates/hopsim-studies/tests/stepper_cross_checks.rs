@@ -12,7 +12,8 @@ use hopsim_analysis::template::{self, BodyState, TemplateCase, TemplateParams};
 use hopsim_model::{ContactMaterial, Model, Shape, Terrain, TerrainFeature, Vec2};
 use hopsim_step::{Actuation, ImpulseCommand, State, StepSettings, Stepper};
 use hopsim_studies::robbit_gait::{
-    compare, section_state, simulate, simulate_from_rest, GaitTolerance, StepperSettings,
+    convergence_to_prediction, section_state, simulate, simulate_from_rest, GaitTolerance,
+    StepperSettings,
 };
 use nalgebra::DVector;
 use std::f64::consts::PI;
@@ -263,7 +264,7 @@ fn robbit_from_rest_converges_to_the_predicted_gait() {
     let p = robbit(FlywheelAtTouchdown::Locked);
     let fp = stable_fixed_point(&p);
     let run = simulate_from_rest(&p, &fp.control, &StepperSettings::default()).unwrap();
-    let c = compare(&fp, &run, 10, &GaitTolerance::default()).expect("brakes");
+    let c = convergence_to_prediction(&fp, &run, 10, &GaitTolerance::default()).expect("brakes");
     let first = c.takeoffs[0];
     println!(
         "from rest (locked): β* = ({:.4}, {:.5}), {} brakes, first Δ = ({:+.3}, {:+.3}), last 10 max |Δφ| {:.2e} rad, |Δφ̇| {:.2e} rad/s, speed {:.4} vs {:.4} m/s, max |λ| {:.3}",
@@ -308,7 +309,7 @@ fn free_flywheel_gait_is_stable_in_the_stepper() {
         ..StepperSettings::default()
     };
     let run = simulate(&p, &fp.control, &settings, start).unwrap();
-    let c = compare(&fp, &run, 10, &GaitTolerance::default()).expect("brakes");
+    let c = convergence_to_prediction(&fp, &run, 10, &GaitTolerance::default()).expect("brakes");
     println!(
         "near the section (free): {} brakes, last 10 max |Δφ| {:.2e} rad, |Δφ̇| {:.2e} rad/s, speed {:.4} vs {:.4} m/s",
         run.brakes.len(),
@@ -351,7 +352,7 @@ fn unstable_fixed_point_diverges_with_the_predicted_multiplier() {
         ..StepperSettings::default()
     };
     let run = simulate(&p, &fp.control, &settings, start).unwrap();
-    let c = compare(&fp, &run, 10, &GaitTolerance::default()).expect("brakes");
+    let c = convergence_to_prediction(&fp, &run, 10, &GaitTolerance::default()).expect("brakes");
     let rates: Vec<f64> = c.takeoffs.iter().map(|d| d.rate_error).collect();
     assert!(rates.len() > 11, "{} brakes", rates.len());
     let ratios: Vec<f64> = (5..10).map(|k| rates[k + 1] / rates[k]).collect();
@@ -386,7 +387,8 @@ fn from_rest_convergence_over_the_default_grid() {
             .filter(|f| f.stable)
         {
             let run = simulate_from_rest(&p, &fp.control, &StepperSettings::default()).unwrap();
-            let ok = compare(fp, &run, 10, &GaitTolerance::default()).is_some_and(|c| c.converged);
+            let ok = convergence_to_prediction(fp, &run, 10, &GaitTolerance::default())
+                .is_some_and(|c| c.converged);
             stable += 1;
             converged += usize::from(ok);
             if fp.warnings(&p).is_empty() {

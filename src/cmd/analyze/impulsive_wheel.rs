@@ -1,13 +1,12 @@
-//! `hopsim analyze impulsive-wheel`: the impulsive wheel's return map (physics.md §5.5).
+//! `hopsim analyze impulsive-wheel`: the impulsive wheel's return map (physics.md §5.5),
+//! computed by [`hopsim_studies::impulsive_wheel`].
 
 use clap::Args;
-use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel};
-use hopsim_analysis::numerics::linspace;
-use hopsim_io::CsvTable;
-use hopsim_studies::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
-use serde_json::json;
+use hopsim_analysis::impulsive_wheel::ImpulsiveWheel;
+use hopsim_studies::impulsive_wheel::{impulsive_wheel, BifurcationParams, ImpulsiveWheelParams};
 
-use super::common::{self, invalid, num, nums, opt_num, OutDir, OutputArgs, Table};
+use super::common::{self, invalid, OutputArgs};
+use crate::cmd::render::render;
 
 /// Fixed point, eigenvalue and stable impulse interval of φ_{i+1} = φ_i − c sin 2φ_i + φ̇_S T_C,
 /// c = R ‖ζ‖² / (m I g); with --out also the bifurcation diagram over ‖ζ‖ and iteration series.
@@ -56,11 +55,12 @@ pub struct ImpulsiveWheelArgs {
     pub output: OutputArgs,
 }
 
-/// Iterations of the bifurcation diagram dropped as transient, and iterations kept.
-const TRANSIENT: usize = 500;
-const KEEP: usize = 64;
-
 pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
+    render(&impulsive_wheel(&params(&args)?)?, &args.output)
+}
+
+/// The study's parameters, every number checked.
+fn params(args: &ImpulsiveWheelArgs) -> anyhow::Result<ImpulsiveWheelParams> {
     common::check_all_finite(&[
         ("impulse", Some(args.impulse)),
         ("mass", Some(args.mass)),
@@ -99,176 +99,16 @@ pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
         gravity: args.gravity,
     };
     wheel.validate()?;
-    let fp = wheel.fixed_point(args.impulse)?;
-    let (lo, hi) = wheel.stable_impulse_interval();
-    let series_impulses = if args.series.is_empty() {
-        vec![args.impulse]
-    } else {
-        args.series.clone()
-    };
-    let series: Vec<(f64, Vec<f64>)> = series_impulses
-        .iter()
-        .map(|&z| (z, wheel.iterate(z, args.initial_angle, args.iterations)))
-        .collect();
-    let files = args
-        .output
-        .write_files(|out| write_outputs(&args, &wheel, &series, out))?;
-    if args.output.json {
-        return common::print_json(&json!({
-            "analysis": "impulsive-wheel",
-            "parameters": wheel,
-            "rolling_speed_rad_s": wheel.rolling_speed(),
-            "drift_rad": wheel.drift(),
-            "impulse_Ns": fp.impulse_ns,
-            "coupling": fp.coupling,
-            "fixed_point_rad": fp.fixed_point_rad,
-            "eigenvalue": fp.eigenvalue,
-            "stable": fp.stable,
-            "stable_impulse_interval_Ns": [lo, hi],
-            "series": series.iter().map(|(z, phis)| json!({
-                "impulse_Ns": z,
-                "takeoff_angles_rad": phis,
-            })).collect::<Vec<_>>(),
-            "files": files,
-        }));
-    }
-    if args.output.quiet {
-        return Ok(());
-    }
-    let mut t = Table::new("impulsive wheel return map (physics.md §5.5)");
-    t.row(
-        "m, R, I",
-        nums(&[
-            (wheel.mass, "kg"),
-            (wheel.radius, "m"),
-            (wheel.inertia, "kg m²"),
-        ]),
-    )
-    .row(
-        "T_C, E₀, g",
-        nums(&[
-            (wheel.cycle_time, "s"),
-            (wheel.rolling_energy, "J"),
-            (wheel.gravity, "m/s²"),
-        ]),
-    )
-    .row(
-        "rolling speed (per cycle)",
-        format!(
-            "{} ({})",
-            num(wheel.rolling_speed(), "rad/s"),
-            num(wheel.drift(), "rad")
-        ),
-    )
-    .row("impulse ‖ζ‖", num(fp.impulse_ns, "N s"))
-    .row("c = R‖ζ‖²/(m I g)", num(fp.coupling, ""))
-    .row(
-        "fixed point φ*",
-        opt_num(fp.fixed_point_rad, "rad", "none (c < φ̇_S T_C)"),
-    )
-    .row("eigenvalue λ", opt_num(fp.eigenvalue, "", "—"))
-    .row("stable", fp.stable)
-    .row(
-        "stable impulse interval",
-        format!("({}, {}) N s", num(lo, ""), num(hi, "")),
-    );
-    print!("{t}");
-    for (z, phis) in &series {
-        let last = phis.last().copied().unwrap_or(f64::NAN);
-        println!(
-            "series ‖ζ‖ = {}: φ_{} = {} (wrapped to [−π/2, π/2): {})",
-            num(*z, "N s"),
-            phis.len() - 1,
-            num(last, "rad"),
-            num(wrap_half_turn(last), "rad")
-        );
-    }
-    common::print_written(&files);
-    Ok(())
-}
-
-fn write_outputs(
-    args: &ImpulsiveWheelArgs,
-    wheel: &ImpulsiveWheel,
-    series: &[(f64, Vec<f64>)],
-    out: &mut OutDir,
-) -> anyhow::Result<()> {
-    let impulses = linspace(args.impulse_min, args.impulse_max, args.bifurcation_points);
-    let diagram = wheel.bifurcation(&impulses, args.initial_angle, TRANSIENT, KEEP);
-    let mut csv = CsvTable::new(&["impulse_Ns", "takeoff_angle_rad"]);
-    let mut points = Vec::new();
-    for (z, phis) in &diagram {
-        for &phi in phis {
-            csv.push(vec![(*z).into(), phi.into()]);
-            points.push((*z, phi));
-        }
-    }
-    out.csv("bifurcation.csv", &csv)?;
-    let fixed: Vec<(f64, f64)> = impulses
-        .iter()
-        .map(|&z| {
-            let fp = wheel.fixed_point(z).ok();
-            (z, fp.and_then(|f| f.fixed_point_rad).unwrap_or(f64::NAN))
-        })
-        .collect();
-    let (lo, hi) = wheel.stable_impulse_interval();
-    let half_pi = 0.5 * std::f64::consts::PI;
-    let mut plot = LinePlot::new(
-        format!("impulsive wheel: take-off angle after {TRANSIENT} iterations (mod π)"),
-        "impulse ‖ζ‖ [N s]",
-        "φ [rad]",
-    )
-    .with_y_range(-half_pi, half_pi)
-    .with_series(
-        Series::line(
-            "fixed point φ* (closed form; stable between the lines)",
-            fixed,
-        )
-        .color(PALETTE[3])
-        .size(1),
-    )
-    .with_series(
-        Series::points(
-            format!("iterates {}–{}", TRANSIENT + 1, TRANSIENT + KEEP),
-            points,
-        )
-        .color(PALETTE[0])
-        .size(1),
-    );
-    for (label, z) in [("stable interval", lo), ("", hi)] {
-        let line = Series::line(label, vec![(z, -half_pi), (z, half_pi)])
-            .color(BLACK)
-            .size(1);
-        plot = plot.with_series(if label.is_empty() {
-            line.unlabelled()
-        } else {
-            line
-        });
-    }
-    out.figure("bifurcation", &plot)?;
-    let mut csv = CsvTable::new(&["impulse_Ns", "iteration", "takeoff_angle_rad"]);
-    let mut plot = LinePlot::new(
-        "impulsive wheel: iteration series",
-        "iteration i",
-        "φ_i [rad]",
-    );
-    for (k, (z, phis)) in series.iter().enumerate() {
-        for (i, &phi) in phis.iter().enumerate() {
-            csv.push(vec![(*z).into(), i.into(), phi.into()]);
-        }
-        plot = plot.with_series(
-            Series::line(
-                format!("‖ζ‖ = {z}"),
-                phis.iter()
-                    .enumerate()
-                    .map(|(i, &p)| (i as f64, p))
-                    .collect(),
-            )
-            .style(SeriesStyle::LineAndPoints)
-            .color(PALETTE[k % PALETTE.len()]),
-        );
-    }
-    out.csv("series.csv", &csv)?;
-    out.figure("series", &plot)?;
-    Ok(())
+    Ok(ImpulsiveWheelParams {
+        wheel,
+        impulse_ns: args.impulse,
+        series_impulses_ns: args.series.clone(),
+        iterations: args.iterations,
+        initial_angle_rad: args.initial_angle,
+        bifurcation: args.output.out.is_some().then_some(BifurcationParams {
+            impulse_min_ns: args.impulse_min,
+            impulse_max_ns: args.impulse_max,
+            points: args.bifurcation_points,
+        }),
+    })
 }

@@ -1,14 +1,18 @@
 //! `hopsim analyze …`: closed-form maps and reduced models of physics.md §5
-//! (`docs/analysis.md`), computed by the `hopsim-analysis` crate.
+//! (`docs/analysis.md`), computed by the studies of `hopsim-studies` over the theory of
+//! `hopsim-analysis`.
 //!
 //! Every subcommand prints a readable table by default, one JSON object with `--json`, and
 //! writes CSV files and PNG/SVG plots into `--out DIR` (created if missing, files written
 //! atomically); `-q/--quiet` hides the progress bar and the table. Invalid arguments exit
 //! with code 2.
 //!
-//! Adding a subcommand: create `src/cmd/analyze/<name>.rs` with a clap `Args` struct and
-//! `pub fn run(args) -> anyhow::Result<()>` (use [`common`] for output), then add one
-//! variant to [`AnalyzeCommand`] and one arm to [`run`].
+//! Adding a subcommand: create `src/cmd/analyze/<name>.rs` with a clap `Args` struct (with
+//! [`common::OutputArgs`] flattened in), the conversion of the arguments to the study's
+//! parameters (checking them: [`common::invalid`] for exit code 2), and
+//! `pub fn run(args) -> anyhow::Result<()>` that calls the study and
+//! [`render`](crate::cmd::render::render)s its report; then add one variant to
+//! [`AnalyzeCommand`] and one arm to [`run`].
 
 pub mod common;
 pub mod fixed_points;

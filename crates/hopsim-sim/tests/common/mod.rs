@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use hopsim_scene::{Override, Scene};
-use hopsim_sim::{Observer, RunError, RunOptions, Simulation, StepView, Summary};
+use hopsim_sim::{Observer, RunError, Simulation, StepView, Summary};
 use hopsim_step::ImpulseTrace;
 use std::path::{Path, PathBuf};
 
@@ -22,7 +22,7 @@ pub fn scene(name: &str, overrides: &[&str]) -> Scene {
 
 /// Runs `scene` to its end, showing every step to `observer`.
 pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Summary {
-    hopsim_sim::run(scene, &RunOptions::default(), observer).expect("run completes")
+    hopsim_sim::run(scene, observer).expect("run completes")
 }
 
 /// The contact and lock percussions of every step of the scene's first second.

@@ -167,10 +167,10 @@ pub fn two_body_hopper(mu: f64) -> Model {
 /// The two-body hopper standing with its foot's lowest point at height `clearance`.
 pub fn two_body_hopper_state(model: &Model, clearance: f64) -> State {
     let mut s = state(&[0.0, 0.0, 0.0, 0.0], &[0.0; 4]);
-    let mut ws = hopsim_model::Workspace::new(model);
-    ws.update(model, &s.q, &s.u);
+    let mut kinematics = hopsim_model::Kinematics::new(model);
+    kinematics.update(model, &s.q, &s.u);
     let lowest = (0..model.contacts.len())
-        .filter_map(|i| model.contact_geometry(&ws, i))
+        .filter_map(|i| model.contact_geometry(&kinematics, i))
         .map(|g| g.gap)
         .fold(f64::INFINITY, f64::min);
     s.q[1] = clearance - lowest;

@@ -1,0 +1,479 @@
+//! Parameter sweeps (docs/sweeps.md): a scene run over a grid of overrides, plus baseline
+//! runs, in parallel; one row of run-summary figures per run (`sweep.csv`) and a figure
+//! (`sweep.png`, `sweep.svg`). For Robbit the figure is the thesis' speed against
+//! transferred impulse with the cube baselines (physics.md §5.3, Fig. 5.7); for other scenes
+//! one figure against the first grid axis.
+
+use crate::plot::{LinePlot, RGBColor, Series, SeriesStyle, BLACK};
+use crate::progress::Progress;
+use crate::report::{Report, ReportFile};
+use crate::run_summary::{robbit_cube, run_scene, RunReport};
+use hopsim_analysis::cube::Cube;
+use hopsim_control::ControllerConfig;
+use hopsim_io::{Cell, CsvTable};
+use hopsim_scene::{Override, Scene, SceneError};
+use hopsim_sim::{grid_jobs, GridAxis, SweepJob, SweepPoint};
+use serde::Serialize;
+use std::fmt::Write;
+
+/// A run-summary figure: its CSV column name and how to read it.
+type Metric = (&'static str, fn(&RunReport) -> f64);
+
+/// The run-summary figures a sweep reports, in CSV column order.
+const METRICS: &[Metric] = &[
+    ("distance_m", |r| r.summary.distance_m),
+    ("mean_speed_mps", |r| r.summary.mean_speed_mps),
+    ("hops", |r| r.summary.hops as f64),
+    ("distance_per_hop_m", |r| r.summary.distance_per_hop_m),
+    ("impulses_count", |r| r.summary.impulses.count as f64),
+    ("impulses_total_Nms", |r| r.summary.impulses.total),
+    ("impulse_per_distance_Nms_per_m", |r| {
+        r.summary.impulse_per_distance
+    }),
+    ("brakes_per_s", |r| {
+        r.robbit.as_ref().map_or(f64::NAN, |b| b.brakes_per_s)
+    }),
+    ("window_impulse_per_distance_Nms_per_m", |r| {
+        r.robbit
+            .as_ref()
+            .map_or(f64::NAN, |b| b.impulse_per_distance)
+    }),
+    ("gait_period", |r| {
+        r.gait
+            .as_ref()
+            .and_then(|g| g.period)
+            .map_or(f64::NAN, |p| p as f64)
+    }),
+    ("gait_residual", |r| {
+        r.gait.as_ref().map_or(f64::NAN, |g| g.residual())
+    }),
+    ("max_penetration_m", |r| r.summary.max_penetration_m),
+    ("energy_balance_error_J", |r| {
+        r.summary.energy.max_abs_balance_error
+    }),
+    ("lcp_failures", |r| r.summary.lcp.failures as f64),
+    ("wall_time_s", |r| r.summary.wall_time_s),
+];
+
+/// `name` if it is one of the figures a sweep reports (the CSV columns after `error`).
+pub fn metric_name(name: &str) -> Result<String, String> {
+    METRICS
+        .iter()
+        .any(|(n, _)| *n == name)
+        .then(|| name.to_string())
+        .ok_or_else(|| {
+            let names: Vec<&str> = METRICS.iter().map(|(n, _)| *n).collect();
+            format!("unknown field '{name}'; one of: {}", names.join(", "))
+        })
+}
+
+/// The figure `name` of a run (NaN for an unknown name).
+fn metric(name: &str, run: &RunReport) -> f64 {
+    METRICS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(f64::NAN, |(_, f)| f(run))
+}
+
+/// An extra run drawn as a horizontal reference line: `NAME:KEY=VALUE[,KEY=VALUE…]`.
+#[derive(Clone, Debug)]
+pub struct SweepBaseline {
+    pub name: String,
+    pub overrides: Vec<Override>,
+}
+
+impl std::str::FromStr for SweepBaseline {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (name, rest) = s
+            .split_once(':')
+            .filter(|(n, _)| !n.trim().is_empty())
+            .ok_or_else(|| format!("'{s}': expected NAME:KEY=VALUE[,KEY=VALUE…]"))?;
+        let overrides = rest
+            .split(',')
+            .map(str::parse)
+            .collect::<Result<Vec<Override>, _>>()?;
+        Ok(Self {
+            name: name.trim().to_string(),
+            overrides,
+        })
+    }
+}
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct SweepParams {
+    /// The grid axes (the last one varies fastest).
+    pub axes: Vec<GridAxis>,
+    /// Extra runs, after the grid's.
+    pub baselines: Vec<SweepBaseline>,
+    /// The figure plotted against the first axis (scenes without the Robbit controller),
+    /// one of the CSV columns ([`metric_name`]).
+    pub y: String,
+}
+
+/// Why a sweep cannot start.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepInputError {
+    #[error("--grid {0} is given twice; give each axis once")]
+    RepeatedAxis(String),
+    #[error(
+        "--baseline name '{0}' is taken (by another baseline or the grid's rows); give each \
+         baseline its own name"
+    )]
+    TakenName(String),
+    /// The scene of the grid's first point or of a baseline is invalid (`what` names it).
+    #[error("{what} is invalid: {error}")]
+    InvalidRun { what: String, error: SceneError },
+}
+
+/// A checked sweep, ready to run.
+pub struct Sweep<'a> {
+    scene: &'a Scene,
+    base: Vec<Override>,
+    params: SweepParams,
+    jobs: Vec<SweepJob>,
+}
+
+impl<'a> Sweep<'a> {
+    /// The sweep of `scene` (already loaded with `base`, the overrides every run gets):
+    /// refuses an axis given twice, a baseline named like another or like the grid's rows,
+    /// and checks the grid's first point and every baseline, so that a misspelt key is one
+    /// error rather than a failed run per point.
+    pub fn new(
+        scene: &'a Scene,
+        base: &[Override],
+        params: SweepParams,
+    ) -> Result<Self, SweepInputError> {
+        let keys: Vec<&str> = params.axes.iter().map(|a| a.key.as_str()).collect();
+        if let Some((_, key)) = keys
+            .iter()
+            .enumerate()
+            .find(|(i, k)| keys[..*i].contains(k))
+        {
+            return Err(SweepInputError::RepeatedAxis(key.to_string()));
+        }
+        let mut names = vec!["grid"];
+        for b in &params.baselines {
+            if names.contains(&b.name.as_str()) {
+                return Err(SweepInputError::TakenName(b.name.clone()));
+            }
+            names.push(&b.name);
+        }
+        let mut jobs = grid_jobs(&params.axes);
+        let first_baseline = jobs.len();
+        jobs.extend(params.baselines.iter().map(|b| SweepJob {
+            label: b.name.clone(),
+            values: Vec::new(),
+            overrides: b.overrides.clone(),
+        }));
+        for (i, job) in jobs.iter().enumerate() {
+            if i > 0 && i < first_baseline {
+                continue;
+            }
+            let mut overrides = base.to_vec();
+            overrides.extend(job.overrides.iter().cloned());
+            if let Err(error) = hopsim_scene::parse(&scene.text, &scene.path, &overrides) {
+                let what = if i == 0 {
+                    "the grid's first point".to_string()
+                } else {
+                    format!("baseline '{}'", job.label)
+                };
+                return Err(SweepInputError::InvalidRun { what, error });
+            }
+        }
+        Ok(Sweep {
+            scene,
+            base: base.to_vec(),
+            params,
+            jobs,
+        })
+    }
+
+    /// The number of runs: the grid's points, then the baselines.
+    pub fn runs(&self) -> usize {
+        self.jobs.len()
+    }
+
+    /// Runs every point on all cores, ticking `progress` after each run.
+    pub fn run(self, progress: &dyn Progress) -> SweepReport {
+        let scene = self.scene;
+        let tick = progress.task(self.jobs.len(), "sweep");
+        let points = hopsim_sim::sweep(
+            &scene.path,
+            &scene.text,
+            &self.base,
+            &self.jobs,
+            |s| run_scene(s, &mut ()),
+            &*tick,
+        );
+        drop(tick);
+        let robbit = matches!(scene.controller, ControllerConfig::MomentumImpulse(_));
+        SweepReport {
+            scene: scene.title.clone(),
+            axes: self.params.axes,
+            y: self.params.y,
+            runs: points.into_iter().map(SweepRun::from).collect(),
+            cube: robbit.then(|| CubeCurves {
+                cube: robbit_cube(scene),
+                restitution: scene.settings.cube_restitution,
+            }),
+        }
+    }
+}
+
+/// One run of a sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepRun {
+    /// `grid` for the grid's points, the baseline's name otherwise.
+    pub label: String,
+    /// The grid values, in axis order (empty for a baseline).
+    pub values: Vec<f64>,
+    /// The run summary; `None` when the run failed.
+    pub summary: Option<RunReport>,
+    /// Why the run failed (or its scene was invalid).
+    pub error: Option<String>,
+}
+
+impl From<SweepPoint<RunReport>> for SweepRun {
+    fn from(p: SweepPoint<RunReport>) -> Self {
+        let (summary, error) = match p.result {
+            Ok(s) => (Some(s), None),
+            Err(e) => (None, Some(e)),
+        };
+        SweepRun {
+            label: p.job.label,
+            values: p.job.values,
+            summary,
+            error,
+        }
+    }
+}
+
+/// Robbit sweeps: the cube of physics.md §5.3 drawn for `ε = 0` and `restitution`.
+#[derive(Clone, Debug, Serialize)]
+pub struct CubeCurves {
+    /// `None` when the main body is not a disc.
+    pub cube: Option<Cube>,
+    /// The scene's `summary.cube_restitution`.
+    pub restitution: f64,
+}
+
+/// A sweep's runs, in grid order (row-major, the last axis fastest), then the baselines.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepReport {
+    /// The scene's title.
+    pub scene: String,
+    pub axes: Vec<GridAxis>,
+    /// The figure plotted against the first axis (scenes without the Robbit controller).
+    pub y: String,
+    pub runs: Vec<SweepRun>,
+    /// Robbit scenes: the figure is speed against impulse per distance with these curves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cube: Option<CubeCurves>,
+}
+
+impl SweepReport {
+    /// Runs that failed.
+    pub fn failed(&self) -> usize {
+        self.runs.iter().filter(|r| r.summary.is_none()).count()
+    }
+
+    /// One CSV row per run: label, grid values, status, error, then every figure.
+    pub fn table(&self) -> CsvTable {
+        let mut header: Vec<String> = vec!["label".into()];
+        header.extend(self.axes.iter().map(|a| a.key.clone()));
+        header.extend(["status".into(), "error".into()]);
+        header.extend(METRICS.iter().map(|(n, _)| n.to_string()));
+        let mut t = CsvTable::new(&header);
+        for r in &self.runs {
+            let mut row: Vec<Cell> = vec![r.label.as_str().into()];
+            row.extend((0..self.axes.len()).map(|i| Cell::from(r.values.get(i).copied())));
+            match (&r.summary, &r.error) {
+                (Some(s), _) => {
+                    row.extend([Cell::from("ok"), Cell::Empty]);
+                    row.extend(METRICS.iter().map(|(_, f)| Cell::from(f(s))));
+                }
+                (None, e) => {
+                    row.extend([
+                        Cell::from("error"),
+                        Cell::from(e.as_deref().unwrap_or_default()),
+                    ]);
+                    row.extend(METRICS.iter().map(|_| Cell::Empty));
+                }
+            }
+            t.push(row);
+        }
+        t
+    }
+
+    /// The figure: speed against impulse for Robbit, else `y` against the first axis.
+    pub fn figure(&self) -> LinePlot {
+        match &self.cube {
+            Some(curves) => self.speed_against_impulse(curves),
+            None => self.quantity_against_axis(),
+        }
+    }
+
+    /// Robbit: mean speed against transferred impulse per distance, with the cube baselines
+    /// of physics.md §5.3 as curves (the thesis' speed-versus-impulse figure).
+    fn speed_against_impulse(&self, curves: &CubeCurves) -> LinePlot {
+        let runs: Vec<(f64, f64)> = self
+            .runs
+            .iter()
+            .filter_map(|r| r.summary.as_ref())
+            .filter_map(|s| {
+                Some((
+                    s.robbit.as_ref()?.impulse_per_distance,
+                    s.summary.mean_speed_mps,
+                ))
+            })
+            .filter(|(x, y)| x.is_finite() && y.is_finite() && *y > 0.0)
+            .collect();
+        let mut plot = LinePlot::new(
+            format!("{}: speed against transferred impulse", self.scene),
+            "transferred angular impulse per distance [N m s/m]",
+            "mean speed [m/s]",
+        )
+        .with_series(Series::points("simulated runs", runs.clone()));
+        if runs.is_empty() {
+            return plot;
+        }
+        let top_speed = runs.iter().map(|p| p.1).fold(0.0, f64::max);
+        // Show the bulk of the runs: up to 1.5 times the 90th percentile of the impulse.
+        let mut xs: Vec<f64> = runs.iter().map(|p| p.0).collect();
+        xs.sort_by(f64::total_cmp);
+        let x_max = 1.5 * xs[(xs.len() * 9 / 10).min(xs.len() - 1)];
+        for eps in [0.0, curves.restitution] {
+            let curve: Vec<(f64, f64)> = (1..=200)
+                .map(|i| 1.3 * top_speed * i as f64 / 200.0)
+                .filter_map(|u| {
+                    let x = curves.cube?.impulse_per_distance(u, eps);
+                    (x <= x_max).then_some((x, u))
+                })
+                .collect();
+            if !curve.is_empty() {
+                plot = plot.with_series(Series::line(format!("cube, ε = {eps}"), curve));
+            }
+        }
+        plot.with_x_range(0.0, x_max)
+            .with_y_range(0.0, 1.3 * top_speed)
+    }
+
+    /// Other scenes: `y` against the first grid axis, one series per value of the second
+    /// axis, baselines as horizontal lines.
+    fn quantity_against_axis(&self) -> LinePlot {
+        let (axes, y) = (&self.axes, self.y.as_str());
+        let x_axis = &axes[0];
+        let mut plot = LinePlot::new(format!("{y} against {}", x_axis.key), &x_axis.key, y);
+        let grid: Vec<&SweepRun> = self.runs.iter().filter(|r| !r.values.is_empty()).collect();
+        let series_values: Vec<Option<f64>> = match axes.get(1) {
+            Some(axis) => axis.values.iter().copied().map(Some).collect(),
+            None => vec![None],
+        };
+        for series_value in series_values {
+            let pts: Vec<(f64, f64)> = grid
+                .iter()
+                .filter(|r| series_value.is_none_or(|v| r.values[1] == v))
+                .filter_map(|r| Some((r.values[0], metric(y, r.summary.as_ref()?))))
+                .filter(|(_, v)| v.is_finite())
+                .collect();
+            let label = match series_value {
+                Some(v) => format!("{} = {v}", axes[1].key),
+                None => y.to_string(),
+            };
+            plot = plot.with_series(Series::line(label, pts).style(SeriesStyle::LineAndPoints));
+        }
+        let (x0, x1) = x_axis
+            .values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let baselines = self.runs.iter().filter(|r| r.values.is_empty());
+        for (r, color) in baselines.zip(BASELINE_COLORS.iter().cycle()) {
+            let value = r.summary.as_ref().map(|s| metric(y, s));
+            if let Some(v) = value.filter(|v| v.is_finite()) {
+                let line = vec![(x0, v), (x1, v)];
+                plot = plot.with_series(Series::line(r.label.clone(), line).color(*color));
+            }
+        }
+        plot
+    }
+
+    /// Where run `r` is: its grid values (`key=value …`) or the baseline's name.
+    fn place(&self, r: &SweepRun) -> String {
+        if r.values.is_empty() {
+            return r.label.clone();
+        }
+        self.axes
+            .iter()
+            .zip(&r.values)
+            .map(|(a, v)| format!("{}={v:.4}", a.key))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    /// One line about run `r`.
+    fn describe(&self, r: &SweepRun) -> String {
+        let at = self.place(r);
+        match (&r.summary, &r.error) {
+            (Some(s), _) if s.summary.hops == 0 => {
+                format!("  {at}: {:.4} m/s, no hop", s.summary.mean_speed_mps)
+            }
+            (Some(s), _) => format!(
+                "  {at}: {:.4} m/s, {} hops, {:.4} m per hop",
+                s.summary.mean_speed_mps, s.summary.hops, s.summary.distance_per_hop_m
+            ),
+            (None, e) => format!("  {at}: error: {}", e.as_deref().unwrap_or_default()),
+        }
+    }
+
+    /// The fastest run that completed.
+    pub fn fastest(&self) -> Option<&SweepRun> {
+        self.runs
+            .iter()
+            .filter_map(|r| Some((r, r.summary.as_ref()?.summary.mean_speed_mps)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(r, _)| r)
+    }
+}
+
+/// Colours of the baseline lines: dark, apart from the palette of the grid's series.
+const BASELINE_COLORS: [RGBColor; 3] = [BLACK, RGBColor(110, 110, 110), RGBColor(150, 60, 60)];
+
+/// Runs listed one by one up to this many; above, the fastest and the first failures.
+const LISTED_RUNS: usize = 30;
+
+/// Failed runs listed in a long sweep's text.
+const LISTED_FAILURES: usize = 5;
+
+impl Report for SweepReport {
+    /// A short table: every run if there are few, else the fastest and the first failures.
+    fn text(&self) -> String {
+        let mut text = format!("{} runs, {} failed\n", self.runs.len(), self.failed());
+        if self.runs.len() <= LISTED_RUNS {
+            for r in &self.runs {
+                let _ = writeln!(text, "{}", self.describe(r));
+            }
+            return text;
+        }
+        if let Some(r) = self.fastest() {
+            let _ = writeln!(text, "fastest:\n{}", self.describe(r));
+        }
+        let failures = self.runs.iter().filter(|r| r.summary.is_none());
+        for r in failures.take(LISTED_FAILURES) {
+            let _ = writeln!(text, "{}", self.describe(r));
+        }
+        text
+    }
+
+    /// `sweep.csv` and the figure `sweep.png`, `sweep.svg`.
+    fn files(&self) -> Vec<ReportFile> {
+        vec![
+            ReportFile::csv("sweep.csv", self.table()),
+            ReportFile::figure("sweep", self.figure()),
+        ]
+    }
+}
