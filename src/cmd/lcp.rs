@@ -4,7 +4,7 @@
 use clap::{Args, Subcommand};
 use hopsim_lcp::dat::read_dat;
 use hopsim_lcp::{LcpProblem, LcpSolution, LemkeSolver};
-use serde_json::json;
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -81,10 +81,11 @@ fn solve(args: &SolveArgs) -> ExitCode {
                 failed = true;
                 eprintln!("error: {message}");
                 if args.json {
-                    println!(
-                        "{}",
-                        json!({ "file": path.display().to_string(), "error": message })
-                    );
+                    let line = ErrorLine {
+                        file: path.display().to_string(),
+                        error: &message,
+                    };
+                    println!("{}", serde_json::to_string(&line).unwrap_or_default());
                 }
             }
         }
@@ -123,28 +124,59 @@ fn median_solve_ns(solver: &mut LemkeSolver, problem: &LcpProblem, repeat: u32) 
     }
 }
 
+/// One `--json` line of a solved problem.
+#[derive(Serialize)]
+struct SolveLine<'a> {
+    file: String,
+    status: &'a str,
+    method: &'a str,
+    n: usize,
+    z: &'a [f64],
+    w: &'a [f64],
+    pivots: usize,
+    certificate: CertificateLine,
+    /// Median wall time of one solve with `--repeat`, ns (one decimal).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    median_solve_ns: Option<f64>,
+}
+
+/// The certificate of a `--json` line.
+#[derive(Serialize)]
+struct CertificateLine {
+    complementarity: f64,
+    most_negative: f64,
+    residual: f64,
+    tolerance: f64,
+    holds: bool,
+}
+
+/// One `--json` line of a problem that could not be read or solved.
+#[derive(Serialize)]
+struct ErrorLine<'a> {
+    file: String,
+    error: &'a str,
+}
+
 fn json_line(path: &Path, problem: &LcpProblem, sol: &LcpSolution, median: Option<f64>) -> String {
     let c = &sol.certificate;
-    let mut object = json!({
-        "file": path.display().to_string(),
-        "status": sol.status.as_str(),
-        "method": sol.method.as_str(),
-        "n": problem.n(),
-        "z": sol.z.as_slice(),
-        "w": sol.w.as_slice(),
-        "pivots": sol.pivots,
-        "certificate": {
-            "complementarity": c.complementarity,
-            "most_negative": c.most_negative,
-            "residual": c.residual,
-            "tolerance": c.tolerance,
-            "holds": c.holds(),
+    let line = SolveLine {
+        file: path.display().to_string(),
+        status: sol.status.as_str(),
+        method: sol.method.as_str(),
+        n: problem.n(),
+        z: sol.z.as_slice(),
+        w: sol.w.as_slice(),
+        pivots: sol.pivots,
+        certificate: CertificateLine {
+            complementarity: c.complementarity,
+            most_negative: c.most_negative,
+            residual: c.residual,
+            tolerance: c.tolerance,
+            holds: c.holds(),
         },
-    });
-    if let Some(ns) = median {
-        object["median_solve_ns"] = json!((ns * 10.0).round() / 10.0);
-    }
-    object.to_string()
+        median_solve_ns: median.map(|ns| (ns * 10.0).round() / 10.0),
+    };
+    serde_json::to_string(&line).unwrap_or_default()
 }
 
 fn human(path: &Path, problem: &LcpProblem, sol: &LcpSolution, median: Option<f64>) -> String {
