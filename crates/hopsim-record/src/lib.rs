@@ -8,10 +8,13 @@
 mod compare;
 mod csv;
 mod frame;
+// Shape outlines and terrain pieces are drawn by the Rerun recorder only.
+#[cfg_attr(not(feature = "rerun"), allow(dead_code))]
 mod geometry;
 mod mcap_format;
 mod mcap_read;
 mod mcap_write;
+#[cfg(feature = "rerun")]
 mod rerun_sink;
 
 pub use compare::{
@@ -27,6 +30,7 @@ pub use mcap_read::{
     McapRecording, RecordingMetadata, SceneAttachment, StateSample, BRAKE_CHANNEL,
 };
 pub use mcap_write::McapRecorder;
+#[cfg(feature = "rerun")]
 pub use rerun_sink::{RerunRecorder, RERUN_VIEWER_INSTALL, STEP_TIMELINE, TIME_TIMELINE};
 
 /// Types of the public API from other hopsim crates, re-exported for the CLI and tests.
