@@ -57,7 +57,7 @@ impl Default for ImpulsiveWheel {
 pub struct TakeoffAngleFixedPoint {
     /// `‖ζ‖` [N s].
     #[serde(rename = "impulse_Ns")]
-    pub impulse_ns: f64,
+    pub impulse_n_s: f64,
     /// `c = R ‖ζ‖² / (m I g)` [rad].
     pub coupling: f64,
     /// `φ* = ½ asin(φ̇_S T_C / c)` [rad], None when `c < φ̇_S T_C` (no fixed point).
@@ -107,7 +107,7 @@ impl ImpulsiveWheel {
         let w = self.drift();
         if c < w || c == 0.0 {
             return Ok(TakeoffAngleFixedPoint {
-                impulse_ns: impulse,
+                impulse_n_s: impulse,
                 coupling: c,
                 fixed_point_rad: None,
                 eigenvalue: None,
@@ -117,7 +117,7 @@ impl ImpulsiveWheel {
         let phi = 0.5 * (w / c).asin();
         let eigenvalue = 1.0 - 2.0 * (c * c - w * w).sqrt();
         Ok(TakeoffAngleFixedPoint {
-            impulse_ns: impulse,
+            impulse_n_s: impulse,
             coupling: c,
             fixed_point_rad: Some(phi),
             eigenvalue: Some(eigenvalue),

@@ -723,7 +723,7 @@ pub struct HopRecord {
     pub takeoff_angular_velocity_rad_s: f64,
     /// `‖ζ‖` [N s].
     #[serde(rename = "impulse_Ns")]
-    pub impulse_ns: f64,
+    pub impulse_n_s: f64,
     /// Flight time [s].
     pub flight_time_s: f64,
     /// `φ` at touchdown [rad].
@@ -733,7 +733,7 @@ pub struct HopRecord {
     pub touchdown_loss_j: f64,
     /// Normal percussion at touchdown [N s] (negative would mean the ground pulls).
     #[serde(rename = "touchdown_normal_percussion_Ns")]
-    pub touchdown_normal_percussion_ns: f64,
+    pub touchdown_normal_percussion_n_s: f64,
     /// Stance time [s].
     pub stance_time_s: f64,
     /// Full forward revolutions in stance (0 in a hopping gait; > 0: the wheel rolled
@@ -762,7 +762,7 @@ pub struct GaitSummary {
     pub froude_number: f64,
     /// Mean take-off impulse `‖ζ‖` [N s].
     #[serde(rename = "impulse_Ns")]
-    pub impulse_ns: f64,
+    pub impulse_n_s: f64,
     /// Mean flight time [s].
     pub flight_time_s: f64,
     /// Mean touchdown angle [rad].
@@ -908,11 +908,11 @@ fn one_hop(
         takeoff_time_s: takeoff_time,
         takeoff_x_m: takeoff_x,
         takeoff_angular_velocity_rad_s: takeoff_w,
-        impulse_ns: kick.impulse,
+        impulse_n_s: kick.impulse,
         flight_time_s: fl.duration,
         touchdown_angle_rad: phi_td,
         touchdown_loss_j: td.energy_loss,
-        touchdown_normal_percussion_ns: td.percussion[1],
+        touchdown_normal_percussion_n_s: td.percussion[1],
         stance_time_s: st.duration,
         stance_revolutions: st.revolutions,
         stride_m: state.q[0] - takeoff_x,
@@ -943,7 +943,7 @@ fn summarize(p: &TemplateParams, hops: &[HopRecord]) -> GaitSummary {
         cost_of_transport: p.energy_input / (p.mass * p.gravity * stride),
         dimensionless_speed,
         froude_number: dimensionless_speed * dimensionless_speed,
-        impulse_ns: mean(|h| h.impulse_ns),
+        impulse_n_s: mean(|h| h.impulse_n_s),
         flight_time_s: mean(|h| h.flight_time_s),
         touchdown_angle_rad: mean(|h| h.touchdown_angle_rad),
         touchdown_loss_j: mean(|h| h.touchdown_loss_j),

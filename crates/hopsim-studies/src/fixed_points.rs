@@ -9,6 +9,7 @@
 //! * `files` and `text`: the CSV files, maps and plots, and the text tables.
 
 mod files;
+pub mod gaits;
 pub mod selection;
 pub mod summary;
 mod text;
@@ -19,10 +20,12 @@ use crate::robbit_gait::{
     convergence_to_prediction, simulate_from_rest, GaitTolerance, StepperSettings,
 };
 use crate::Result;
+use hopsim_analysis::error::{require_finite, require_positive};
 use hopsim_analysis::fixed_points::{
     find_fixed_point, FixedPoint, FixedPointGrid, GridPoint, SolverSettings,
 };
 use hopsim_analysis::robbit::{RobbitParams, SectionState};
+use hopsim_analysis::AnalysisError;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -44,6 +47,9 @@ pub struct FixedPointsParams {
     /// Run the time-stepper from rest with a stable `β*` (the point's, or the grid's
     /// [`selection::most_stable`]) and these settings; `None`: no run.
     pub simulation: Option<StepperSettings>,
+    /// Grids only: run every fixed point from rest with these settings (the thesis'
+    /// Figure 5.7, [`gaits`]); `None`: no runs.
+    pub gaits: Option<StepperSettings>,
 }
 
 /// The section states to solve.
@@ -58,6 +64,68 @@ pub enum Sections {
         angle_points: usize,
         energy_points: usize,
     },
+}
+
+impl FixedPointsParams {
+    /// Checks every number: the robot, the section states and the cross-check's step and
+    /// duration (invalid-parameter errors name the offending value).
+    pub fn validate(&self) -> Result<()> {
+        self.robot.validate()?;
+        match self.sections {
+            Sections::Point {
+                angle_rad,
+                energy_j,
+            } => {
+                require_finite("takeoff-angle", angle_rad)?;
+                require_finite("takeoff-energy", energy_j)?;
+            }
+            Sections::Grid {
+                angle_range_rad: (a0, a1),
+                energy_range_j: (e0, e1),
+                angle_points,
+                energy_points,
+            } => {
+                require_range("angle", a0, a1, angle_points)?;
+                require_range("energy", e0, e1, energy_points)?;
+                if e0 < 0.0 {
+                    Err(AnalysisError::invalid("energy-min", e0, "must be ≥ 0"))?;
+                }
+            }
+        }
+        for s in self.simulation.iter().chain(&self.gaits) {
+            require_positive("dt", s.dt)?;
+            if !(s.duration.is_finite() && s.duration > s.dt) {
+                Err(AnalysisError::invalid(
+                    "duration",
+                    s.duration,
+                    &format!("must be finite and exceed dt = {}", s.dt),
+                ))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A grid axis `min … max` with `points` values: finite, at least one point, and
+/// `min < max` unless there is a single point.
+fn require_range(axis: &str, min: f64, max: f64, points: usize) -> Result<()> {
+    require_finite(&format!("{axis}-min"), min)?;
+    require_finite(&format!("{axis}-max"), max)?;
+    if points == 0 {
+        Err(AnalysisError::invalid(
+            &format!("{axis}-points"),
+            0.0,
+            "must be at least 1",
+        ))?;
+    }
+    if !(min < max || points == 1) {
+        Err(AnalysisError::invalid(
+            &format!("{axis}-min"),
+            min,
+            &format!("must be below {axis}-max = {max}"),
+        ))?;
+    }
+    Ok(())
 }
 
 /// The study's name, mode and robot (the first keys of either report).
@@ -127,6 +195,9 @@ pub struct GridReport {
     /// Whether the cross-check was asked for.
     #[serde(skip)]
     pub simulate_requested: bool,
+    /// Every fixed point run from rest, if asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gaits: Option<gaits::FixedPointGaits>,
 }
 
 /// The study's result: one point or a grid.
@@ -143,15 +214,12 @@ pub fn fixed_points(
     params: &FixedPointsParams,
     progress: &dyn Progress,
 ) -> Result<FixedPointsReport> {
-    let p = &params.robot;
-    p.validate()?;
-    match params.sections {
+    params.validate()?;
+    Ok(match params.sections {
         Sections::Point {
             angle_rad,
             energy_j,
-        } => Ok(FixedPointsReport::Point(Box::new(point(
-            params, angle_rad, energy_j,
-        )?))),
+        } => FixedPointsReport::Point(Box::new(solve_point(params, angle_rad, energy_j)?)),
         Sections::Grid {
             angle_range_rad,
             energy_range_j,
@@ -159,20 +227,19 @@ pub fn fixed_points(
             energy_points,
         } => {
             let grid = FixedPointGrid::new(
-                *p,
+                params.robot,
                 angle_range_rad,
                 energy_range_j,
                 angle_points,
                 energy_points,
             );
-            Ok(FixedPointsReport::Grid(Box::new(self::grid(
-                params, &grid, progress,
-            )?)))
+            FixedPointsReport::Grid(Box::new(solve_grid(params, &grid, progress)?))
         }
-    }
+    })
 }
 
-fn point(params: &FixedPointsParams, angle: f64, energy: f64) -> Result<PointReport> {
+/// One section state `(φ_TO, E_TO)`.
+fn solve_point(params: &FixedPointsParams, angle: f64, energy: f64) -> Result<PointReport> {
     let p = &params.robot;
     let z = SectionState::from_energy(p, angle, energy)?;
     let started = Instant::now();
@@ -198,7 +265,8 @@ fn point(params: &FixedPointsParams, angle: f64, energy: f64) -> Result<PointRep
     })
 }
 
-fn grid(
+/// Every state of `grid`, one progress tick per state.
+fn solve_grid(
     params: &FixedPointsParams,
     grid: &FixedPointGrid,
     progress: &dyn Progress,
@@ -222,6 +290,12 @@ fn grid(
         }
         _ => None,
     };
+    let gaits = match &params.gaits {
+        Some(settings) => Some(gaits::simulate_fixed_points(
+            p, &solved, settings, progress,
+        )?),
+        None => None,
+    };
     let fixed_points = points.iter().filter(|q| q.fixed_point).count();
     let stable_points = points.iter().filter(|q| q.stable).count();
     Ok(GridReport {
@@ -241,6 +315,7 @@ fn grid(
         points,
         simulation,
         simulate_requested: params.simulation.is_some(),
+        gaits,
     })
 }
 
@@ -280,6 +355,7 @@ impl Report for FixedPointsReport {
                     files::points_csv(&r.points),
                 )];
                 out.extend(files::grid_maps(&r.angles_rad, &r.energies, &r.points));
+                out.extend(r.gaits.iter().flat_map(gaits::FixedPointGaits::files));
                 (out, &r.simulation)
             }
         };
@@ -303,6 +379,7 @@ mod tests {
                 energy_j,
             },
             simulation: simulate.then(StepperSettings::default),
+            gaits: None,
         }
     }
 
@@ -346,6 +423,36 @@ mod tests {
         );
     }
 
+    /// Each bad number is refused as the user's input and named: NaN, a reversed or empty
+    /// axis, a negative energy, a zero time step.
+    #[test]
+    fn bad_numbers_are_named_invalid_parameters() {
+        let grid = |angles: (f64, f64), energies: (f64, f64), n: usize| FixedPointsParams {
+            sections: Sections::Grid {
+                angle_range_rad: angles,
+                energy_range_j: energies,
+                angle_points: n,
+                energy_points: n,
+            },
+            ..point_params(-0.8, 0.08, false)
+        };
+        let mut zero_dt = point_params(-0.8, 0.08, true);
+        zero_dt.simulation.as_mut().unwrap().dt = 0.0;
+        for (params, name) in [
+            (point_params(f64::NAN, 0.08, false), "takeoff-angle"),
+            (grid((0.2, -0.2), (0.02, 0.1), 3), "angle-min"),
+            (grid((-1.0, -0.2), (-0.1, 0.1), 3), "energy-min"),
+            (grid((-1.0, -0.2), (0.02, 0.1), 0), "angle-points"),
+            (zero_dt, "dt"),
+        ] {
+            let err = fixed_points(&params, &Silent).unwrap_err();
+            assert!(err.is_invalid_input(), "{err}");
+            assert!(err.to_string().contains(&format!("`{name}`")), "{err}");
+        }
+        // One point per axis needs no span.
+        assert!(grid((-0.5, -0.5), (0.05, 0.05), 1).validate().is_ok());
+    }
+
     /// A grid reports every point, counts that add up, its selections among the points
     /// and one CSV with three maps.
     #[test]
@@ -359,6 +466,7 @@ mod tests {
                 energy_points: 2,
             },
             simulation: None,
+            gaits: None,
         };
         let FixedPointsReport::Grid(r) = fixed_points(&params, &Silent).unwrap() else {
             panic!("a grid report")

@@ -5,8 +5,10 @@
 use crate::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use crate::report::{num, nums, opt_num, Report, ReportFile, Table};
 use crate::Result;
+use hopsim_analysis::error::require_finite;
 use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel, TakeoffAngleFixedPoint};
 use hopsim_analysis::numerics::linspace;
+use hopsim_analysis::AnalysisError;
 use hopsim_io::CsvTable;
 use serde::Serialize;
 use std::f64::consts::FRAC_PI_2;
@@ -21,9 +23,9 @@ pub struct ImpulsiveWheelParams {
     /// The wheel.
     pub wheel: ImpulsiveWheel,
     /// Impulse `‖ζ‖` of the fixed point [N s].
-    pub impulse_ns: f64,
-    /// Impulses of the iteration series [N s] (empty: `impulse_ns` alone).
-    pub series_impulses_ns: Vec<f64>,
+    pub impulse_n_s: f64,
+    /// Impulses of the iteration series [N s] (empty: `impulse_n_s` alone).
+    pub series_impulses_n_s: Vec<f64>,
     /// Iterations of each series.
     pub iterations: usize,
     /// Initial take-off angle of the series and the bifurcation diagram [rad].
@@ -32,11 +34,52 @@ pub struct ImpulsiveWheelParams {
     pub bifurcation: Option<BifurcationParams>,
 }
 
+impl ImpulsiveWheelParams {
+    /// Checks every number (invalid-parameter errors name the offending value).
+    pub fn validate(&self) -> Result<()> {
+        self.wheel.validate()?;
+        for &z in std::iter::once(&self.impulse_n_s).chain(&self.series_impulses_n_s) {
+            require_non_negative("impulse", z)?;
+        }
+        require_finite("initial-angle", self.initial_angle_rad)?;
+        if let Some(b) = &self.bifurcation {
+            require_non_negative("impulse-min", b.impulse_min_n_s)?;
+            if !(b.impulse_max_n_s.is_finite() && b.impulse_max_n_s > b.impulse_min_n_s) {
+                Err(AnalysisError::invalid(
+                    "impulse-max",
+                    b.impulse_max_n_s,
+                    &format!(
+                        "must be finite and exceed impulse-min = {}",
+                        b.impulse_min_n_s
+                    ),
+                ))?;
+            }
+            if b.points < 2 {
+                Err(AnalysisError::invalid(
+                    "bifurcation-points",
+                    b.points as f64,
+                    "must be at least 2",
+                ))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks that an impulse is finite and ≥ 0.
+fn require_non_negative(name: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(AnalysisError::invalid(name, value, "must be finite and ≥ 0").into())
+    }
+}
+
 /// Impulses of the bifurcation diagram: `points` values evenly spaced from `min` to `max`.
 #[derive(Clone, Copy, Debug)]
 pub struct BifurcationParams {
-    pub impulse_min_ns: f64,
-    pub impulse_max_ns: f64,
+    pub impulse_min_n_s: f64,
+    pub impulse_max_n_s: f64,
     pub points: usize,
 }
 
@@ -44,7 +87,7 @@ pub struct BifurcationParams {
 #[derive(Clone, Debug, Serialize)]
 pub struct IterationSeries {
     #[serde(rename = "impulse_Ns")]
-    pub impulse_ns: f64,
+    pub impulse_n_s: f64,
     #[serde(rename = "takeoff_angles_rad")]
     pub takeoff_angles: Vec<f64>,
 }
@@ -83,22 +126,23 @@ pub struct ImpulsiveWheelReport {
 
 /// Computes the fixed point, the series and the diagram asked for.
 pub fn impulsive_wheel(p: &ImpulsiveWheelParams) -> Result<ImpulsiveWheelReport> {
+    p.validate()?;
     let wheel = &p.wheel;
-    let fixed_point = wheel.fixed_point(p.impulse_ns)?;
-    let impulses = if p.series_impulses_ns.is_empty() {
-        std::slice::from_ref(&p.impulse_ns)
+    let fixed_point = wheel.fixed_point(p.impulse_n_s)?;
+    let impulses = if p.series_impulses_n_s.is_empty() {
+        std::slice::from_ref(&p.impulse_n_s)
     } else {
-        &p.series_impulses_ns[..]
+        &p.series_impulses_n_s[..]
     };
     let series = impulses
         .iter()
         .map(|&z| IterationSeries {
-            impulse_ns: z,
+            impulse_n_s: z,
             takeoff_angles: wheel.iterate(z, p.initial_angle_rad, p.iterations),
         })
         .collect();
     let bifurcation = p.bifurcation.map(|b| {
-        let impulses = linspace(b.impulse_min_ns, b.impulse_max_ns, b.points);
+        let impulses = linspace(b.impulse_min_n_s, b.impulse_max_n_s, b.points);
         Bifurcation {
             fixed_points: impulses
                 .iter()
@@ -180,7 +224,7 @@ impl ImpulsiveWheelReport {
         );
         for (k, s) in self.series.iter().enumerate() {
             for (i, &phi) in s.takeoff_angles.iter().enumerate() {
-                csv.push(vec![s.impulse_ns.into(), i.into(), phi.into()]);
+                csv.push(vec![s.impulse_n_s.into(), i.into(), phi.into()]);
             }
             let points = s
                 .takeoff_angles
@@ -189,7 +233,7 @@ impl ImpulsiveWheelReport {
                 .map(|(i, &p)| (i as f64, p))
                 .collect();
             plot = plot.with_series(
-                Series::line(format!("‖ζ‖ = {}", s.impulse_ns), points)
+                Series::line(format!("‖ζ‖ = {}", s.impulse_n_s), points)
                     .style(SeriesStyle::LineAndPoints)
                     .color(PALETTE[k % PALETTE.len()]),
             );
@@ -226,7 +270,7 @@ impl Report for ImpulsiveWheelReport {
                 num(self.drift_rad, "rad")
             ),
         )
-        .row("impulse ‖ζ‖", num(fp.impulse_ns, "N s"))
+        .row("impulse ‖ζ‖", num(fp.impulse_n_s, "N s"))
         .row("c = R‖ζ‖²/(m I g)", num(fp.coupling, ""))
         .row(
             "fixed point φ*",
@@ -243,7 +287,7 @@ impl Report for ImpulsiveWheelReport {
             let last = s.takeoff_angles.last().copied().unwrap_or(f64::NAN);
             text += &format!(
                 "series ‖ζ‖ = {}: φ_{} = {} (wrapped to [−π/2, π/2): {})\n",
-                num(s.impulse_ns, "N s"),
+                num(s.impulse_n_s, "N s"),
                 s.takeoff_angles.len() - 1,
                 num(last, "rad"),
                 num(wrap_half_turn(last), "rad")
@@ -269,11 +313,30 @@ mod tests {
     fn params() -> ImpulsiveWheelParams {
         ImpulsiveWheelParams {
             wheel: ImpulsiveWheel::default(),
-            impulse_ns: 3.5,
-            series_impulses_ns: Vec::new(),
+            impulse_n_s: 3.5,
+            series_impulses_n_s: Vec::new(),
             iterations: 3,
             initial_angle_rad: 0.1,
             bifurcation: None,
+        }
+    }
+
+    /// Negative or non-finite impulses and an empty bifurcation range are the user's
+    /// input, named.
+    #[test]
+    fn bad_impulses_are_named_invalid_parameters() {
+        let mut series = params();
+        series.series_impulses_n_s = vec![1.0, f64::NAN];
+        let mut range = params();
+        range.bifurcation = Some(BifurcationParams {
+            impulse_min_n_s: 3.0,
+            impulse_max_n_s: 2.0,
+            points: 10,
+        });
+        for (p, name) in [(series, "impulse"), (range, "impulse-max")] {
+            let err = impulsive_wheel(&p).unwrap_err();
+            assert!(err.is_invalid_input(), "{err}");
+            assert!(err.to_string().contains(&format!("`{name}`")), "{err}");
         }
     }
 
@@ -281,7 +344,7 @@ mod tests {
     fn the_series_default_to_the_fixed_point_impulse() {
         let report = impulsive_wheel(&params()).unwrap();
         assert_eq!(report.series.len(), 1);
-        assert_eq!(report.series[0].impulse_ns, 3.5);
+        assert_eq!(report.series[0].impulse_n_s, 3.5);
         assert_eq!(report.series[0].takeoff_angles.len(), 4);
         assert!(report.bifurcation.is_none());
         let names = |r: &ImpulsiveWheelReport| -> Vec<String> {
@@ -295,16 +358,16 @@ mod tests {
         };
         assert_eq!(names(&report), ["series.csv", "series"]);
         let p = ImpulsiveWheelParams {
-            series_impulses_ns: vec![3.0, 3.9],
+            series_impulses_n_s: vec![3.0, 3.9],
             bifurcation: Some(BifurcationParams {
-                impulse_min_ns: 0.1,
-                impulse_max_ns: 4.1,
+                impulse_min_n_s: 0.1,
+                impulse_max_n_s: 4.1,
                 points: 2,
             }),
             ..params()
         };
         let report = impulsive_wheel(&p).unwrap();
-        let z: Vec<f64> = report.series.iter().map(|s| s.impulse_ns).collect();
+        let z: Vec<f64> = report.series.iter().map(|s| s.impulse_n_s).collect();
         assert_eq!(z, [3.0, 3.9]);
         assert_eq!(
             names(&report),

@@ -12,6 +12,7 @@ use hopsim_analysis::obstacle::{
     allometric_radius, compare_strategies, region_map_allometric, region_map_inertia_froude,
     RegionCell, Strategy, StrategyComparison, Wheel,
 };
+use hopsim_analysis::AnalysisError;
 use hopsim_io::CsvTable;
 use serde::Serialize;
 use std::time::Instant;
@@ -120,6 +121,14 @@ pub struct ObstacleReport {
 
 /// Compares the strategies at the operating point and computes the maps asked for.
 pub fn obstacle(p: &ObstacleParams, progress: &dyn Progress) -> Result<ObstacleReport> {
+    let ratios = p.maps.iter().flat_map(|m| &m.height_ratios);
+    if let Some(&bad) = ratios.into_iter().find(|r| !(**r > 0.0 && **r < 1.0)) {
+        Err(AnalysisError::invalid(
+            "map-height-ratios",
+            bad,
+            "each must lie in (0, 1)",
+        ))?;
+    }
     let comparison = compare_strategies(&p.wheel, p.speed_mps, p.height_m)?;
     let mut timed = TimedMaps {
         progress,

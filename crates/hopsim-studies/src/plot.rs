@@ -247,18 +247,24 @@ fn chart<'a, DB: DrawingBackend>(
         .map_err(|e| e.to_string())
 }
 
-/// Draws the axes with their labels; `grid` adds light grid lines (maps cover them).
+/// Draws the axes with their labels; `grid` adds light grid lines (maps cover them);
+/// `log_x`: the chart's x coordinate is `log10 x`, labelled with `x`.
 fn draw_axes<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     x_label: &str,
     y_label: &str,
     grid: bool,
+    log_x: bool,
 ) -> DrawResult {
     let mut mesh = chart.configure_mesh();
     if grid {
         mesh.light_line_style(RGBColor(235, 235, 235));
     } else {
         mesh.disable_mesh();
+    }
+    let log_label = |v: &f64| three_significant_digits(10f64.powf(*v));
+    if log_x {
+        mesh.x_label_formatter(&log_label);
     }
     mesh.x_desc(x_label)
         .y_desc(y_label)
@@ -268,16 +274,77 @@ fn draw_axes<DB: DrawingBackend>(
         .map_err(|e| e.to_string())
 }
 
-/// Draws the legend of the labelled series in the upper right corner.
-fn draw_legend<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>) -> DrawResult {
+/// `x` with three significant digits, without trailing zeros (axis labels).
+fn three_significant_digits(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{x:.decimals$}");
+    match text.contains('.') {
+        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => text,
+    }
+}
+
+/// Draws the legend (one row per entry of `labels`) in the place of the plotting area that
+/// covers the fewest points of `avoid`: the upper right corner unless another place covers
+/// fewer.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    labels: &[&str],
+    avoid: &[Series],
+) -> DrawResult {
+    // The legend's size as plotters lays it out: text rows of the 15 px font, a 30 px
+    // symbol column and 10 px margins (estimated, with a little room to spare).
+    let widest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as i32;
+    let (w, h) = (widest * 8 + 60, labels.len() as i32 * 19 + 24);
+    let (area_w, area_h) = chart.plotting_area().dim_in_pixel();
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let pixels: Vec<(i32, i32)> = avoid
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .map(|p| chart.backend_coord(p))
+        .map(|(x, y)| (x - xs.start, y - ys.start))
+        .collect();
+    let (right, bottom) = (area_w as i32 - w - 5, area_h as i32 - h - 5);
+    let (middle_x, middle_y) = ((area_w as i32 - w) / 2, (area_h as i32 - h) / 2);
+    let places = [
+        (right, 5),
+        (5, 5),
+        (middle_x, 5),
+        (right, bottom),
+        (5, bottom),
+        (middle_x, bottom),
+        (right, middle_y),
+        (5, middle_y),
+    ];
+    let covered = |&(x0, y0): &(i32, i32)| {
+        pixels
+            .iter()
+            .filter(|(x, y)| (x0..=x0 + w).contains(x) && (y0..=y0 + h).contains(y))
+            .count()
+    };
+    // The first place with the fewest covered points.
+    let (x, y) = places
+        .iter()
+        .min_by_key(|p| covered(p))
+        .copied()
+        .unwrap_or((right, 5));
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(SeriesLabelPosition::Coordinate(x, y))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font((FONT, 15))
         .draw()
         .map_err(|e| e.to_string())
+}
+
+/// The labels of the labelled series.
+fn labels(series: &[Series]) -> Vec<&str> {
+    series.iter().filter_map(|s| s.label.as_deref()).collect()
 }
 
 /// Checks that the `figure` has `len = nx × ny > 0` `cells`.
@@ -395,6 +462,8 @@ pub struct LinePlot {
     pub y_range: Option<(f64, f64)>,
     /// Size in pixels.
     pub size: (u32, u32),
+    /// Logarithmic x axis (points with `x ≤ 0` are left out; the x range is in `x`).
+    pub log_x: bool,
 }
 
 impl LinePlot {
@@ -412,7 +481,14 @@ impl LinePlot {
             x_range: None,
             y_range: None,
             size: DEFAULT_SIZE,
+            log_x: false,
         }
+    }
+
+    /// Makes the x axis logarithmic.
+    pub fn with_log_x(mut self) -> Self {
+        self.log_x = true;
+        self
     }
 
     /// Adds a series.
@@ -441,20 +517,34 @@ impl Figure for LinePlot {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let all = || self.series.iter().flat_map(|s| s.points.iter());
-        let x_range = self
-            .x_range
-            .unwrap_or_else(|| padded(finite_range(all().map(|p| p.0)), 0.03));
+        // On a logarithmic axis the chart's coordinate is log10 x.
+        let to_chart = |x: f64| if self.log_x { x.log10() } else { x };
+        let series: Vec<Series> = self
+            .series
+            .iter()
+            .map(|s| Series {
+                points: (s.points.iter())
+                    .filter(|p| !self.log_x || p.0 > 0.0)
+                    .map(|&(x, y)| (to_chart(x), y))
+                    .collect(),
+                ..s.clone()
+            })
+            .collect();
+        let all = || series.iter().flat_map(|s| s.points.iter());
+        let x_range = match self.x_range {
+            Some((lo, hi)) => (to_chart(lo), to_chart(hi)),
+            None => padded(finite_range(all().map(|p| p.0)), 0.03),
+        };
         let y_range = self
             .y_range
             .unwrap_or_else(|| padded(finite_range(all().map(|p| p.1)), 0.05));
         let mut chart = chart(root, &self.title, x_range, y_range)?;
-        draw_axes(&mut chart, &self.x_label, &self.y_label, true)?;
-        for (i, series) in self.series.iter().enumerate() {
+        draw_axes(&mut chart, &self.x_label, &self.y_label, true, self.log_x)?;
+        for (i, series) in series.iter().enumerate() {
             draw_series(&mut chart, series, PALETTE[i % PALETTE.len()])?;
         }
         if self.series.iter().any(|s| s.label.is_some()) {
-            draw_legend(&mut chart)?;
+            draw_legend(&mut chart, &labels(&series), &series)?;
         }
         Ok(())
     }
@@ -607,7 +697,7 @@ impl Figure for Heatmap {
         let span = if hi > lo { hi - lo } else { 1.0 };
         let (x_range, y_range) = grid.ranges();
         let mut chart = chart(&main, &self.title, x_range, y_range)?;
-        draw_axes(&mut chart, &self.x_label, &self.y_label, false)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, false, false)?;
         let cells = grid.cells().filter_map(|(k, rect)| {
             value(&self.values[k]).map(|v| Rectangle::new(rect, viridis((v - lo) / span).filled()))
         });
@@ -616,7 +706,7 @@ impl Figure for Heatmap {
             draw_series(&mut chart, series, PALETTE[(i + 3) % PALETTE.len()])?;
         }
         if self.overlays.iter().any(|s| s.label.is_some()) {
-            draw_legend(&mut chart)?;
+            draw_legend(&mut chart, &labels(&self.overlays), &self.overlays)?;
         }
         // Colour bar.
         let mut bar_chart = ChartBuilder::on(&bar)
@@ -726,7 +816,7 @@ impl Figure for CategoryMap {
         };
         let (x_range, y_range) = grid.ranges();
         let mut chart = chart(root, &self.title, x_range, y_range)?;
-        draw_axes(&mut chart, &self.x_label, &self.y_label, false)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, false, false)?;
         for (k, name) in self.categories.iter().enumerate() {
             let c = color(k);
             let rects = grid
@@ -746,7 +836,9 @@ impl Figure for CategoryMap {
                 PALETTE[(i + self.categories.len()) % PALETTE.len()],
             )?;
         }
-        draw_legend(&mut chart)?;
+        let mut entries: Vec<&str> = self.categories.iter().map(String::as_str).collect();
+        entries.extend(labels(&self.overlays));
+        draw_legend(&mut chart, &entries, &self.overlays)?;
         Ok(())
     }
 }

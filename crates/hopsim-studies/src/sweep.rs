@@ -329,36 +329,13 @@ impl SweepReport {
                     s.summary.mean_speed_mps,
                 ))
             })
-            .filter(|(x, y)| x.is_finite() && y.is_finite() && *y > 0.0)
             .collect();
-        let mut plot = LinePlot::new(
+        speed_against_impulse(
             format!("{}: speed against transferred impulse", self.scene),
-            "transferred angular impulse per distance [N m s/m]",
-            "mean speed [m/s]",
+            vec![Series::points("simulated runs", runs)],
+            curves.cube.as_ref(),
+            &[0.0, curves.restitution].map(|eps| (eps, format!("cube, ε = {eps}"))),
         )
-        .with_series(Series::points("simulated runs", runs.clone()));
-        if runs.is_empty() {
-            return plot;
-        }
-        let top_speed = runs.iter().map(|p| p.1).fold(0.0, f64::max);
-        // Show the bulk of the runs: up to 1.5 times the 90th percentile of the impulse.
-        let mut xs: Vec<f64> = runs.iter().map(|p| p.0).collect();
-        xs.sort_by(f64::total_cmp);
-        let x_max = 1.5 * xs[(xs.len() * 9 / 10).min(xs.len() - 1)];
-        for eps in [0.0, curves.restitution] {
-            let curve: Vec<(f64, f64)> = (1..=200)
-                .map(|i| 1.3 * top_speed * i as f64 / 200.0)
-                .filter_map(|u| {
-                    let x = curves.cube?.impulse_per_distance(u, eps);
-                    (x <= x_max).then_some((x, u))
-                })
-                .collect();
-            if !curve.is_empty() {
-                plot = plot.with_series(Series::line(format!("cube, ε = {eps}"), curve));
-            }
-        }
-        plot.with_x_range(0.0, x_max)
-            .with_y_range(0.0, 1.3 * top_speed)
     }
 
     /// Other scenes: `y` against the first grid axis, one series per value of the second
@@ -438,6 +415,65 @@ impl SweepReport {
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(r, _)| r)
     }
+}
+
+/// Mean speed against transferred angular impulse per distance (the axes of the thesis'
+/// Fig. 5.7, physics.md §5.3) for the points of `series` (non-finite points and points not
+/// moving forward are left out), with the cube baseline [5.21] as one curve per
+/// `(ε, label)` of `cubes`. The impulse axis is logarithmic, so that the cubes, which may
+/// need ten times the robot's impulse, show beside every point.
+pub(crate) fn speed_against_impulse(
+    title: String,
+    mut series: Vec<Series>,
+    cube: Option<&Cube>,
+    cubes: &[(f64, String)],
+) -> LinePlot {
+    for s in &mut series {
+        s.points
+            .retain(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0);
+    }
+    let points = || series.iter().flat_map(|s| s.points.iter());
+    let top_speed = points().map(|p| p.1).fold(0.0, f64::max);
+    let (x_min, x_max) = points().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| {
+        (lo.min(p.0), hi.max(p.0))
+    });
+    let mut plot = LinePlot::new(
+        title,
+        "transferred angular impulse per distance [N m s/m] (log scale)",
+        "mean speed [m/s]",
+    )
+    .with_log_x();
+    for s in series {
+        plot = plot.with_series(s);
+    }
+    if top_speed == 0.0 {
+        return plot;
+    }
+    // Every point, and each cube down to half the top speed.
+    let cube_at = |u: f64, eps: f64| cube.map_or(0.0, |c| c.impulse_per_distance(u, eps));
+    let (lo, hi) = cubes
+        .iter()
+        .filter(|(eps, _)| cube_at(top_speed, *eps) > 0.0)
+        .fold((x_min, x_max), |(lo, hi), (eps, _)| {
+            (
+                lo.min(cube_at(1.3 * top_speed, *eps)),
+                hi.max(cube_at(0.5 * top_speed, *eps)),
+            )
+        });
+    let (lo, hi) = (lo / 1.2, hi * 1.2);
+    for (eps, label) in cubes {
+        let curve: Vec<(f64, f64)> = (1..=400)
+            .map(|i| 1.3 * top_speed * i as f64 / 400.0)
+            .filter_map(|u| {
+                let x = cube?.impulse_per_distance(u, *eps);
+                (x >= lo && x <= hi).then_some((x, u))
+            })
+            .collect();
+        if !curve.is_empty() {
+            plot = plot.with_series(Series::line(label.clone(), curve));
+        }
+    }
+    plot.with_x_range(lo, hi).with_y_range(0.0, 1.3 * top_speed)
 }
 
 /// Colours of the baseline lines: dark, apart from the palette of the grid's series.

@@ -286,13 +286,13 @@ fn obstacle_report() {
 fn impulsive_wheel_report() {
     let p = ImpulsiveWheelParams {
         wheel: ImpulsiveWheel::default(),
-        impulse_ns: 3.5,
-        series_impulses_ns: vec![3.0, 3.9],
+        impulse_n_s: 3.5,
+        series_impulses_n_s: vec![3.0, 3.9],
         iterations: 5,
         initial_angle_rad: 0.1,
         bifurcation: Some(BifurcationParams {
-            impulse_min_ns: 2.0,
-            impulse_max_ns: 5.0,
+            impulse_min_n_s: 2.0,
+            impulse_max_n_s: 5.0,
             points: 4,
         }),
     };

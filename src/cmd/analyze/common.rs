@@ -82,18 +82,3 @@ fn is_invalid_input(err: &anyhow::Error) -> bool {
             )
     })
 }
-
-/// Checks that an optional override is finite (clap already parsed it as a number).
-pub fn check_finite(name: &str, value: Option<f64>) -> anyhow::Result<()> {
-    match value {
-        Some(v) if !v.is_finite() => invalid(format!("--{name} must be a finite number, got {v}")),
-        _ => Ok(()),
-    }
-}
-
-/// [`check_finite`] for each `(name, value)` in order; the first non-finite one is the error.
-pub fn check_all_finite(values: &[(&str, Option<f64>)]) -> anyhow::Result<()> {
-    values
-        .iter()
-        .try_for_each(|&(name, value)| check_finite(name, value))
-}

@@ -7,8 +7,7 @@ use hopsim_analysis::robbit::{FlywheelAtTouchdown, RobbitParams};
 use hopsim_studies::fixed_points::{fixed_points, FixedPointsParams, Sections};
 use hopsim_studies::robbit_gait::StepperSettings;
 
-use super::common::{self, invalid, OutputArgs};
-use crate::cmd::progress::CountBars;
+use super::common::{InvalidInput, OutputArgs};
 use crate::cmd::render::render;
 
 /// Named parameter sets.
@@ -99,10 +98,15 @@ pub struct FixedPointsArgs {
     /// states with the prediction.
     #[arg(long)]
     pub simulate: bool,
-    /// Time step of --simulate [s].
+    /// Run every fixed point of the grid from rest for --duration and plot mean speed
+    /// against impulse per distance over the last 10 s with the cube baselines (the
+    /// thesis' Figure 5.7); with --out, fixed_point_gaits.csv/.png/.svg.
+    #[arg(long, conflicts_with_all = ["takeoff_angle", "takeoff_energy"])]
+    pub simulate_all: bool,
+    /// Time step of --simulate and --simulate-all [s].
     #[arg(long, allow_negative_numbers = true, default_value_t = 2e-4)]
     pub dt: f64,
-    /// Simulated time of --simulate [s].
+    /// Simulated time of --simulate and --simulate-all [s].
     #[arg(long, allow_negative_numbers = true, default_value_t = 20.0)]
     pub duration: f64,
     #[command(flatten)]
@@ -112,26 +116,8 @@ pub struct FixedPointsArgs {
 /// Default grid: 30 × 30 points (seconds); the thesis used 150 × 150.
 const DEFAULT_GRID: u32 = 30;
 
-/// The study's parameters, or the invalid argument (exit code 2).
+/// The study's parameters (checked by the study), or the invalid `--grid` (exit code 2).
 fn params(args: &FixedPointsArgs) -> anyhow::Result<FixedPointsParams> {
-    common::check_all_finite(&[
-        ("radius", args.radius),
-        ("eccentricity", args.eccentricity),
-        ("body-mass", args.body_mass),
-        ("flywheel-mass", args.flywheel_mass),
-        ("body-inertia", args.body_inertia),
-        ("flywheel-inertia", args.flywheel_inertia),
-        ("friction", args.friction),
-        ("gravity", args.gravity),
-        ("takeoff-angle", args.takeoff_angle),
-        ("takeoff-energy", args.takeoff_energy),
-        ("angle-min", Some(args.angle_min)),
-        ("angle-max", Some(args.angle_max)),
-        ("energy-min", Some(args.energy_min)),
-        ("energy-max", Some(args.energy_max)),
-        ("dt", Some(args.dt)),
-        ("duration", Some(args.duration)),
-    ])?;
     let CaseName::Robbit = args.case;
     let base = RobbitParams::default();
     let robot = RobbitParams {
@@ -148,82 +134,47 @@ fn params(args: &FixedPointsArgs) -> anyhow::Result<FixedPointsParams> {
             TouchdownName::Free => FlywheelAtTouchdown::Free,
         },
     };
-    robot.validate()?;
-    if args.simulate && !(args.dt > 0.0 && args.duration > args.dt) {
-        return invalid(format!(
-            "--dt ({}) must be > 0 and below --duration ({})",
-            args.dt, args.duration
-        ));
-    }
     let sections = match (args.takeoff_angle, args.takeoff_energy) {
         (Some(angle_rad), Some(energy_j)) => Sections::Point {
             angle_rad,
             energy_j,
         },
-        _ => grid(args)?,
+        _ => {
+            let (n, m) = match &args.grid {
+                None => (DEFAULT_GRID, DEFAULT_GRID),
+                Some(spec) => grid_size(spec).ok_or_else(|| InvalidInput(format!(
+                    "--grid must be ANGLESxENERGIES with 1 … 1000 points each (e.g. 150x150), got `{spec}`"
+                )))?,
+            };
+            Sections::Grid {
+                angle_range_rad: (args.angle_min, args.angle_max),
+                energy_range_j: (args.energy_min, args.energy_max),
+                angle_points: args.angle_points.unwrap_or(n) as usize,
+                energy_points: args.energy_points.unwrap_or(m) as usize,
+            }
+        }
+    };
+    let settings = StepperSettings {
+        dt: args.dt,
+        duration: args.duration,
+        ..StepperSettings::default()
     };
     Ok(FixedPointsParams {
         robot,
         sections,
-        simulation: args.simulate.then(|| StepperSettings {
-            dt: args.dt,
-            duration: args.duration,
-            ..StepperSettings::default()
-        }),
+        simulation: args.simulate.then_some(settings),
+        gaits: args.simulate_all.then_some(settings),
     })
 }
 
-/// The grid of `--grid`, `--angle-points`, `--energy-points` and the ranges.
-fn grid(args: &FixedPointsArgs) -> anyhow::Result<Sections> {
-    let (mut n, mut m) = (DEFAULT_GRID, DEFAULT_GRID);
-    if let Some(spec) = &args.grid {
-        let parsed = spec
-            .split_once(['x', 'X', '×'])
-            .and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?)))
-            .filter(|&(a, b)| (1..=1000).contains(&a) && (1..=1000).contains(&b));
-        match parsed {
-            Some((a, b)) => (n, m) = (a, b),
-            None => {
-                return invalid(format!(
-                    "--grid must be ANGLESxENERGIES with 1 … 1000 points each (e.g. 150x150), got `{spec}`"
-                ))
-            }
-        }
-    }
-    n = args.angle_points.unwrap_or(n);
-    m = args.energy_points.unwrap_or(m);
-    if !(args.angle_min < args.angle_max || n == 1) {
-        return invalid(format!(
-            "--angle-min ({}) must be below --angle-max ({})",
-            args.angle_min, args.angle_max
-        ));
-    }
-    if !(args.energy_min < args.energy_max || m == 1) || args.energy_min < 0.0 {
-        return invalid(format!(
-            "the energy range must satisfy 0 ≤ --energy-min ({}) < --energy-max ({})",
-            args.energy_min, args.energy_max
-        ));
-    }
-    Ok(Sections::Grid {
-        angle_range_rad: (args.angle_min, args.angle_max),
-        energy_range_j: (args.energy_min, args.energy_max),
-        angle_points: n as usize,
-        energy_points: m as usize,
-    })
+/// `ANGLESxENERGIES` with 1 … 1000 of each.
+fn grid_size(spec: &str) -> Option<(u32, u32)> {
+    let (a, b) = spec.split_once(['x', 'X', '×'])?;
+    let (a, b) = (a.trim().parse().ok()?, b.trim().parse().ok()?);
+    ((1..=1000).contains(&a) && (1..=1000).contains(&b)).then_some((a, b))
 }
 
 pub fn run(args: FixedPointsArgs) -> anyhow::Result<()> {
-    let params = params(&args)?;
-    let progress = CountBars {
-        unit: "cells",
-        quiet: args.output.hide_progress(),
-    };
-    let report = fixed_points(&params, &progress).or_else(|e| {
-        if e.is_invalid_input() {
-            invalid(e.to_string())
-        } else {
-            Err(e.into())
-        }
-    })?;
+    let report = fixed_points(&params(&args)?, &args.output.cell_bars())?;
     render(&report, &args.output)
 }

@@ -5,7 +5,7 @@ use clap::Args;
 use hopsim_analysis::impulsive_wheel::ImpulsiveWheel;
 use hopsim_studies::impulsive_wheel::{impulsive_wheel, BifurcationParams, ImpulsiveWheelParams};
 
-use super::common::{self, invalid, OutputArgs};
+use super::common::OutputArgs;
 use crate::cmd::render::render;
 
 /// Fixed point, eigenvalue and stable impulse interval of φ_{i+1} = φ_i − c sin 2φ_i + φ̇_S T_C,
@@ -56,59 +56,28 @@ pub struct ImpulsiveWheelArgs {
 }
 
 pub fn run(args: ImpulsiveWheelArgs) -> anyhow::Result<()> {
-    render(&impulsive_wheel(&params(&args)?)?, &args.output)
+    render(&impulsive_wheel(&params(&args))?, &args.output)
 }
 
-/// The study's parameters, every number checked.
-fn params(args: &ImpulsiveWheelArgs) -> anyhow::Result<ImpulsiveWheelParams> {
-    common::check_all_finite(&[
-        ("impulse", Some(args.impulse)),
-        ("mass", Some(args.mass)),
-        ("radius", Some(args.radius)),
-        ("inertia", Some(args.inertia)),
-        ("cycle-time", Some(args.cycle_time)),
-        ("rolling-energy", Some(args.rolling_energy)),
-        ("gravity", Some(args.gravity)),
-        ("impulse-min", Some(args.impulse_min)),
-        ("impulse-max", Some(args.impulse_max)),
-        ("initial-angle", Some(args.initial_angle)),
-    ])?;
-    if args.impulse < 0.0 || args.impulse_min < 0.0 {
-        return invalid("impulses must be ≥ 0");
-    }
-    if args.impulse_max <= args.impulse_min {
-        return invalid(format!(
-            "--impulse-max ({}) must exceed --impulse-min ({})",
-            args.impulse_max, args.impulse_min
-        ));
-    }
-    if args.bifurcation_points < 2 {
-        return invalid("--bifurcation-points must be at least 2");
-    }
-    if let Some(bad) = args.series.iter().find(|z| !(z.is_finite() && **z >= 0.0)) {
-        return invalid(format!(
-            "--series impulses must be finite and ≥ 0, got {bad}"
-        ));
-    }
-    let wheel = ImpulsiveWheel {
-        mass: args.mass,
-        radius: args.radius,
-        inertia: args.inertia,
-        cycle_time: args.cycle_time,
-        rolling_energy: args.rolling_energy,
-        gravity: args.gravity,
-    };
-    wheel.validate()?;
-    Ok(ImpulsiveWheelParams {
-        wheel,
-        impulse_ns: args.impulse,
-        series_impulses_ns: args.series.clone(),
+/// The study's parameters (checked by the study).
+fn params(args: &ImpulsiveWheelArgs) -> ImpulsiveWheelParams {
+    ImpulsiveWheelParams {
+        wheel: ImpulsiveWheel {
+            mass: args.mass,
+            radius: args.radius,
+            inertia: args.inertia,
+            cycle_time: args.cycle_time,
+            rolling_energy: args.rolling_energy,
+            gravity: args.gravity,
+        },
+        impulse_n_s: args.impulse,
+        series_impulses_n_s: args.series.clone(),
         iterations: args.iterations,
         initial_angle_rad: args.initial_angle,
         bifurcation: args.output.out.is_some().then_some(BifurcationParams {
-            impulse_min_ns: args.impulse_min,
-            impulse_max_ns: args.impulse_max,
+            impulse_min_n_s: args.impulse_min,
+            impulse_max_n_s: args.impulse_max,
             points: args.bifurcation_points,
         }),
-    })
+    }
 }

@@ -5,7 +5,7 @@ use clap::Args;
 use hopsim_analysis::obstacle::Wheel;
 use hopsim_studies::obstacle::{obstacle, MapParams, ObstacleParams};
 
-use super::common::{self, invalid, OutputArgs};
+use super::common::{invalid, OutputArgs};
 use crate::cmd::render::render;
 
 /// Costs of rolling, trivial hopping and rotational hopping over a wall of height h, for a
@@ -55,24 +55,19 @@ pub struct ObstacleArgs {
     pub output: OutputArgs,
 }
 
-/// The study's parameters, every number checked.
+/// The study's parameters (checked by the study; the ratios given instead of a value are
+/// checked here so that the error names them).
 fn params(args: &ObstacleArgs) -> anyhow::Result<ObstacleParams> {
     for (name, value) in [
-        ("mass", Some(args.mass)),
-        ("radius", Some(args.radius)),
-        ("inertia", args.inertia),
         ("inertia-factor", args.inertia_factor),
-        ("height", args.height),
         ("height-ratio", args.height_ratio),
-        ("speed", args.speed),
         ("froude", args.froude),
-        ("gravity", Some(args.gravity)),
     ] {
-        common::check_finite(name, value)?;
-        if let Some(v) = value {
-            if v <= 0.0 {
-                return invalid(format!("--{name} must be > 0, got {v}"));
+        match value {
+            Some(v) if !(v.is_finite() && v > 0.0) => {
+                return invalid(format!("--{name} must be a finite number > 0, got {v}"))
             }
+            _ => {}
         }
     }
     let inertia = args
@@ -84,30 +79,14 @@ fn params(args: &ObstacleArgs) -> anyhow::Result<ObstacleParams> {
         inertia,
         gravity: args.gravity,
     };
-    wheel.validate()?;
-    let height = args
-        .height
-        .unwrap_or(args.height_ratio.unwrap_or(0.2) * args.radius);
-    let speed = args
-        .speed
-        .unwrap_or_else(|| wheel.speed_from_froude(args.froude.unwrap_or(1.0)));
-    if height >= args.radius {
-        return invalid(format!(
-            "the wall height {height} m must be below the radius {} m",
-            args.radius
-        ));
-    }
-    for &ratio in &args.map_height_ratios {
-        if !(ratio.is_finite() && ratio > 0.0 && ratio < 1.0) {
-            return invalid(format!(
-                "--map-height-ratios values must lie in (0, 1), got {ratio}"
-            ));
-        }
-    }
     Ok(ObstacleParams {
+        speed_mps: args
+            .speed
+            .unwrap_or_else(|| wheel.speed_from_froude(args.froude.unwrap_or(1.0))),
+        height_m: args
+            .height
+            .unwrap_or(args.height_ratio.unwrap_or(0.2) * args.radius),
         wheel,
-        speed_mps: speed,
-        height_m: height,
         maps: args.output.out.is_some().then(|| MapParams {
             height_ratios: args.map_height_ratios.clone(),
             resolution: args.resolution as usize,

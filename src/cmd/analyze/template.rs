@@ -7,7 +7,7 @@ use hopsim_analysis::template::{CargoGrid, TemplateCase, TemplateParams};
 use hopsim_analysis::AnalysisError;
 use hopsim_studies::template::{self as study, AnimalSweepsParams, CargoGridParams, CaseParams};
 
-use super::common::{self, invalid, OutputArgs};
+use super::common::{invalid, OutputArgs};
 use crate::cmd::render::render;
 
 /// Parses a Table-3.1 case name (`cargo-1`, `cargo-2`, `wallaby`, `kangaroo-rat`).
@@ -91,17 +91,6 @@ pub struct TemplateArgs {
 }
 
 fn apply_overrides(args: &TemplateArgs, mut p: TemplateParams) -> anyhow::Result<TemplateParams> {
-    common::check_all_finite(&[
-        ("radius", args.radius),
-        ("leg-length", args.leg_length),
-        ("mass", args.mass),
-        ("inertia", args.inertia),
-        ("takeoff-angle", args.takeoff_angle),
-        ("energy", args.energy),
-        ("tau", args.tau),
-        ("gravity", args.gravity),
-        ("tolerance", args.tolerance),
-    ])?;
     p.radius = args.radius.unwrap_or(p.radius);
     p.leg_length = args.leg_length.unwrap_or(p.leg_length);
     p.mass = args.mass.unwrap_or(p.mass);

@@ -260,6 +260,9 @@ pub fn grid_text(r: &GridReport) -> String {
         r.simulate_requested,
         "no stable fixed point in the grid to simulate",
     ));
+    if let Some(gaits) = &r.gaits {
+        out.push_str(&gaits.text());
+    }
     out
 }
 

@@ -254,7 +254,7 @@ mod tests {
                 cost_of_transport: 0.1,
                 dimensionless_speed: speed,
                 froude_number: speed * speed,
-                impulse_ns: 1.0,
+                impulse_n_s: 1.0,
                 flight_time_s: 0.1,
                 touchdown_angle_rad: 0.0,
                 touchdown_loss_j: 0.0,

@@ -33,7 +33,7 @@ struct GaitFields {
     dimensionless_speed: Option<f64>,
     froude_number: Option<f64>,
     #[serde(rename = "impulse_Ns")]
-    impulse_ns: Option<f64>,
+    impulse_n_s: Option<f64>,
     flight_time_s: Option<f64>,
     touchdown_angle_rad: Option<f64>,
     #[serde(rename = "touchdown_loss_J")]
@@ -54,7 +54,7 @@ impl From<Option<&GaitSummary>> for GaitFields {
             cost_of_transport: Some(s.cost_of_transport),
             dimensionless_speed: Some(s.dimensionless_speed),
             froude_number: Some(s.froude_number),
-            impulse_ns: Some(s.impulse_ns),
+            impulse_n_s: Some(s.impulse_n_s),
             flight_time_s: Some(s.flight_time_s),
             touchdown_angle_rad: Some(s.touchdown_angle_rad),
             touchdown_loss_j: Some(s.touchdown_loss_j),
@@ -121,7 +121,7 @@ pub fn warnings(run: &TemplateRun) -> Vec<String> {
     let window = window(run);
     let pulling = window
         .iter()
-        .filter(|h| h.touchdown_normal_percussion_ns < 0.0)
+        .filter(|h| h.touchdown_normal_percussion_n_s < 0.0)
         .count();
     if pulling > 0 {
         out.push(format!(
@@ -226,11 +226,11 @@ impl CaseReport {
                 h.takeoff_time_s.into(),
                 h.takeoff_x_m.into(),
                 h.takeoff_angular_velocity_rad_s.into(),
-                h.impulse_ns.into(),
+                h.impulse_n_s.into(),
                 h.flight_time_s.into(),
                 h.touchdown_angle_rad.into(),
                 h.touchdown_loss_j.into(),
-                h.touchdown_normal_percussion_ns.into(),
+                h.touchdown_normal_percussion_n_s.into(),
                 h.stance_time_s.into(),
                 Cell::Text(h.stance_revolutions.to_string()),
                 h.stride_m.into(),
@@ -304,7 +304,7 @@ impl Report for CaseReport {
                     .row("hop frequency", num(s.hop_frequency_hz, "Hz"))
                     .row("cost of transport", num(s.cost_of_transport, ""))
                     .row("u / sqrt(g l)", num(s.dimensionless_speed, ""))
-                    .row("impulse ‖ζ‖", num(s.impulse_ns, "N s"))
+                    .row("impulse ‖ζ‖", num(s.impulse_n_s, "N s"))
                     .row("flight time", num(s.flight_time_s, "s"))
                     .row("touchdown angle", num(s.touchdown_angle_rad, "rad"))
                     .row("touchdown loss", num(s.touchdown_loss_j, "J"))
@@ -356,11 +356,11 @@ mod tests {
             takeoff_time_s: 0.0,
             takeoff_x_m: 0.0,
             takeoff_angular_velocity_rad_s: 0.0,
-            impulse_ns: 1.0,
+            impulse_n_s: 1.0,
             flight_time_s: 0.1,
             touchdown_angle_rad: 0.0,
             touchdown_loss_j: 0.0,
-            touchdown_normal_percussion_ns: percussion,
+            touchdown_normal_percussion_n_s: percussion,
             stance_time_s: 0.1,
             stance_revolutions: revolutions,
             stride_m: 1.0,
