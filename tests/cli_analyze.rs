@@ -243,6 +243,23 @@ fn bad_numbers_are_clear_errors_not_panics() {
         &["analyze", "impulsive-wheel", "--impulse", "nan"],
         &["analyze", "obstacle", "--height-ratio", "1.5"],
         &["analyze", "template", "--grid", "cargo", "--radius", "1"],
+        // Sizes that would exhaust memory or time are refused before any work.
+        &["analyze", "template", "--hops", "1000000000000"],
+        &[
+            "analyze",
+            "impulsive-wheel",
+            "--iterations",
+            "1000000000000",
+        ],
+        &[
+            "analyze",
+            "impulsive-wheel",
+            "--bifurcation-points",
+            "1000000000",
+            "--out",
+            "target/never-written",
+        ],
+        &["analyze", "fixed-points", "--simulate", "--duration", "1e6"],
     ]);
 }
 

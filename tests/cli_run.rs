@@ -264,11 +264,11 @@ fn outputs_on_one_path_or_on_the_scene_are_refused_before_running() {
     assert_eq!(files_in(dir.path()), [scene]);
 }
 
-/// Ctrl-C stops the run at the next step: exit 130, and neither outputs nor temporary
-/// files are left.
+/// Starts a long recorded run in a fresh folder, waits until its recorders have created
+/// their temporary files, sends `signals` 50 ms apart and returns the output and the files
+/// left in the folder.
 #[cfg(unix)]
-#[test]
-fn an_interrupted_run_leaves_no_file() {
+fn interrupted_run(signals: &[libc::c_int]) -> (std::process::Output, Vec<PathBuf>) {
     let dir = tempfile::tempdir().unwrap();
     let p = |name: &str| dir.path().join(name).display().to_string();
     let child = Command::new(env!("CARGO_BIN_EXE_hopsim"))
@@ -286,24 +286,57 @@ fn an_interrupted_run_leaves_no_file() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait until the recorders have created their temporary files, then interrupt.
     let started = std::time::Instant::now();
     while files_in(dir.path()).len() < 5 && started.elapsed().as_secs() < 60 {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     std::thread::sleep(std::time::Duration::from_millis(300));
-    // SAFETY: sends SIGINT to the child we spawned.
-    unsafe {
-        libc::kill(child.id() as libc::pid_t, libc::SIGINT);
+    for &signal in signals {
+        // SAFETY: sends a signal to the child we spawned.
+        unsafe {
+            libc::kill(child.id() as libc::pid_t, signal);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
     }
     let out = child.wait_with_output().unwrap();
+    let left = files_in(dir.path());
+    (out, left)
+}
+
+/// Ctrl-C stops the run at the next step: exit 130, and neither outputs nor temporary
+/// files are left.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_run_leaves_no_file() {
+    let (out, left) = interrupted_run(&[libc::SIGINT]);
     assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
     assert!(
         text(&out.stderr).contains("interrupted at t ="),
         "{}",
         text(&out.stderr)
     );
-    assert_eq!(files_in(dir.path()), Vec::<PathBuf>::new());
+    assert_eq!(left, Vec::<PathBuf>::new());
+}
+
+/// SIGHUP and SIGTERM stop the run like Ctrl-C (exit 128 + the signal), and a second
+/// Ctrl-C 50 ms after the first removes the temporary files at once: nothing is left.
+#[cfg(unix)]
+#[test]
+fn hangups_and_repeated_interrupts_leave_no_file() {
+    for (signals, code) in [
+        (&[libc::SIGHUP][..], 129),
+        (&[libc::SIGTERM][..], 143),
+        (&[libc::SIGINT, libc::SIGINT][..], 130),
+    ] {
+        let (out, left) = interrupted_run(signals);
+        assert_eq!(
+            out.status.code(),
+            Some(code),
+            "{signals:?}: {}",
+            text(&out.stderr)
+        );
+        assert_eq!(left, Vec::<PathBuf>::new(), "{signals:?}");
+    }
 }
 
 #[test]
@@ -355,4 +388,89 @@ fn a_sweep_refuses_repeated_axes_and_fails_when_every_run_fails() {
         2,
         "{csv}"
     );
+}
+
+/// Numbers that cannot be meant are refused before any work, exit 2, with a message that
+/// names the option and what was expected: non-finite or negative durations and steps, a
+/// run longer than `simulation.max_steps` (with the option that allows it), negative or
+/// NaN comparison tolerances, an unbounded `--repeat`.
+#[test]
+fn unreasonable_numbers_are_refused_with_the_option_named() {
+    let a = "tests/golden/robbit_first_second.csv";
+    for (args, expected) in [
+        (
+            &["run", "scenes/robbit.toml", "--duration", "nan"][..],
+            "finite",
+        ),
+        (
+            &["run", "scenes/robbit.toml", "--duration", "-1"],
+            "--duration",
+        ),
+        (&["run", "scenes/robbit.toml", "--dt", "inf"], "finite"),
+        (
+            &["run", "scenes/robbit.toml", "--duration", "1e6"],
+            "simulation.max_steps",
+        ),
+        (
+            &[
+                "sweep",
+                "scenes/robbit.toml",
+                "--duration",
+                "nan",
+                "--grid",
+                "controller.torque=0.1,0.2",
+            ],
+            "finite",
+        ),
+        (&["compare", a, a, "--abs-tol", "nan"], "--abs-tol"),
+        (&["compare", a, a, "--rel-tol", "-1"], "≥ 0"),
+        (&["compare", a, a, "--state-tol", "inf"], "finite"),
+        (
+            &[
+                "lcp",
+                "solve",
+                "tests/data/lcp/lcp_trivial.dat",
+                "--repeat",
+                "1000000000",
+            ],
+            "--repeat",
+        ),
+        (
+            &[
+                "sweep",
+                "scenes/robbit.toml",
+                "--grid",
+                "controller.torque=0.1:0.3:1000000000",
+            ],
+            "from 1 to 100000",
+        ),
+        (
+            &[
+                "sweep",
+                "scenes/robbit.toml",
+                "--grid",
+                "controller.torque=0.1:0.3:1000",
+                "--grid",
+                "controller.impulse_limit=0.04:0.07:1000",
+            ],
+            "--max-runs",
+        ),
+    ] {
+        let out = hopsim(args);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!stderr.contains("-- -1"), "{args:?}: {stderr}");
+    }
+    // The limit can be raised: the same run is then refused only by its own numbers.
+    let raised = hopsim(&[
+        "scene",
+        "check",
+        "scenes/robbit.toml",
+        "--set",
+        "simulation.max_steps=1e9",
+        "--set",
+        "simulation.duration=1e5",
+    ]);
+    assert_eq!(raised.status.code(), Some(0), "{}", text(&raised.stderr));
 }

@@ -20,16 +20,16 @@ pub struct CompareArgs {
     /// The recording to check against it.
     pub other: PathBuf,
     /// Absolute impulse tolerance, N s.
-    #[arg(long, value_name = "NS", default_value_t = TraceTolerance::default().abs)]
+    #[arg(long, value_name = "NS", default_value_t = TraceTolerance::default().abs, allow_negative_numbers = true, value_parser = super::non_negative)]
     pub abs_tol: f64,
     /// Relative impulse tolerance: |a − b| ≤ abs + rel·max(|a|, |b|).
-    #[arg(long, value_name = "REL", default_value_t = TraceTolerance::default().rel)]
+    #[arg(long, value_name = "REL", default_value_t = TraceTolerance::default().rel, allow_negative_numbers = true, value_parser = super::non_negative)]
     pub rel_tol: f64,
     /// Also compare the states q, u at the steps both recordings hold (two .mcap files).
     #[arg(long)]
     pub states: bool,
     /// Absolute tolerance on each state value (m, rad, m/s, rad/s).
-    #[arg(long, value_name = "X", default_value_t = 1e-9)]
+    #[arg(long, value_name = "X", default_value_t = 1e-9, allow_negative_numbers = true, value_parser = super::non_negative)]
     pub state_tol: f64,
 }
 

@@ -4,5 +4,5 @@
 pub const INVALID_INPUT: u8 = 2;
 /// The simulation stopped: NaN or runaway state, or an LCP failure in strict mode.
 pub const SIMULATION_FAILED: u8 = 3;
-/// A run was stopped by Ctrl-C or SIGTERM (128 + SIGINT, as shells report it).
-pub const INTERRUPTED: u8 = 130;
+// A command stopped by a signal exits with 128 + the signal's number, as shells report it
+// (130 for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP): `interrupt::exit_code`.

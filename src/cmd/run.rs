@@ -21,10 +21,10 @@ pub struct RunArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Simulated time in seconds (overrides simulation.duration).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
     pub duration: Option<f64>,
     /// Step size in seconds (overrides simulation.dt).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
     pub dt: Option<f64>,
     /// Write an MCAP recording (Foxglove, Python `mcap` reader).
     #[arg(long, value_name = "FILE")]
@@ -98,7 +98,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .transpose()?;
     let mut observer = RecordingObserver::new(recorders, &scene);
     let mut progress = (!args.quiet).then(|| RunProgress::new(&scene, "simulating"));
-    interrupt::install();
+    interrupt::stop_gracefully();
     let result = run_scene(&scene, &mut StopOnSignal((&mut observer, &mut progress)));
     drop(progress);
     let summary = match result {
@@ -118,7 +118,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(match err {
                 RunError::Step(_) => exit::SIMULATION_FAILED,
                 RunError::Record(_) => 1,
-                RunError::Interrupted { .. } => exit::INTERRUPTED,
+                RunError::Interrupted { .. } => interrupt::exit_code(),
             }));
         }
     };

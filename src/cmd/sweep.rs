@@ -5,7 +5,9 @@
 use clap::Args;
 use hopsim_scene::Override;
 use hopsim_sim::GridAxis;
-use hopsim_studies::sweep::{metric_name, Sweep, SweepBaseline, SweepInputError, SweepParams};
+use hopsim_studies::sweep::{
+    metric_name, Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS,
+};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -29,8 +31,11 @@ pub struct SweepArgs {
     #[arg(long = "baseline", value_name = "NAME:KEY=VALUE")]
     pub baselines: Vec<SweepBaseline>,
     /// Simulated time of every run in seconds (overrides simulation.duration).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
     pub duration: Option<f64>,
+    /// The most grid points to run; a larger grid is refused before any run.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_RUNS)]
+    pub max_runs: usize,
     /// Output directory for sweep.csv and the plot [default: out/<scene>-sweep].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -49,6 +54,7 @@ impl From<&SweepArgs> for SweepParams {
             axes: args.grid.clone(),
             baselines: args.baselines.clone(),
             y: args.y.clone(),
+            max_runs: args.max_runs,
         }
     }
 }

@@ -67,6 +67,9 @@ pub struct TemplateParams {
     pub convergence_tolerance: f64,
 }
 
+/// The most hops of one template run (each hop is four closed-form maps).
+pub const MAX_HOPS: usize = 1_000_000;
+
 impl TemplateParams {
     /// Eccentricity `a = R − l` [m].
     pub fn eccentricity(&self) -> f64 {
@@ -101,6 +104,13 @@ impl TemplateParams {
                 "takeoff-angle",
                 self.takeoff_angle,
                 "must lie in (−π, π)",
+            ));
+        }
+        if self.hops > MAX_HOPS {
+            return Err(AnalysisError::invalid(
+                "hops",
+                self.hops as f64,
+                &format!("must be at most {MAX_HOPS}"),
             ));
         }
         if self.window == 0 {

@@ -2,9 +2,44 @@
 //! renamed over the target only when complete.
 
 use crate::IoError;
+use std::collections::BTreeSet;
 use std::io::{self, BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use tempfile::{NamedTempFile, TempPath};
+
+/// Every temporary file that exists now (created, neither committed nor dropped), so that a
+/// process ending on a signal can delete them ([`remove_temporary_files`]).
+static LIVE: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
+
+fn live() -> std::sync::MutexGuard<'static, BTreeSet<PathBuf>> {
+    LIVE.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Deletes every temporary output file of this process that is not committed yet. For a
+/// process about to exit on a signal: its outputs are then left as they were before.
+pub fn remove_temporary_files() {
+    for path in std::mem::take(&mut *live()) {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+/// A temporary file's registration in [`LIVE`]; dropping it unregisters the path.
+#[derive(Debug)]
+struct Registered(PathBuf);
+
+impl Registered {
+    fn new(path: &Path) -> Self {
+        live().insert(path.to_path_buf());
+        Registered(path.to_path_buf())
+    }
+}
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        live().remove(&self.0);
+    }
+}
 
 /// A file written under a temporary name `.<name>.partial-XXXXXX` beside `path` and renamed
 /// to `path` by [`AtomicFile::commit`]; dropped without `commit`, the temporary file is
@@ -13,15 +48,18 @@ use tempfile::{NamedTempFile, TempPath};
 pub struct AtomicFile {
     file: BufWriter<NamedTempFile>,
     path: PathBuf,
+    _registered: Registered,
 }
 
 impl AtomicFile {
     /// Creates the temporary file for `path` (creating missing parent folders).
     pub fn create(path: &Path) -> Result<Self, IoError> {
-        let file = temporary_file_for(path, "")?;
+        let target = output_target(path)?;
+        let file = temporary_file_for(&target, path, "")?;
         Ok(Self {
+            _registered: Registered::new(file.path()),
             file: BufWriter::new(file),
-            path: path.to_path_buf(),
+            path: target,
         })
     }
 
@@ -65,6 +103,7 @@ impl Seek for AtomicFile {
 pub struct AtomicPath {
     temporary: TempPath,
     path: PathBuf,
+    _registered: Registered,
 }
 
 impl AtomicPath {
@@ -74,10 +113,12 @@ impl AtomicPath {
             .extension()
             .map(|e| format!(".{}", e.to_string_lossy()))
             .unwrap_or_default();
-        let temporary = temporary_file_for(path, &suffix)?.into_temp_path();
+        let target = output_target(path)?;
+        let temporary = temporary_file_for(&target, path, &suffix)?.into_temp_path();
         Ok(Self {
+            _registered: Registered::new(&temporary),
             temporary,
-            path: path.to_path_buf(),
+            path: target,
         })
     }
 
@@ -112,29 +153,99 @@ where
     file.commit()
 }
 
-/// Creates `dir` (and its parents) if it does not exist.
+/// Creates `dir` (and its parents) if it does not exist; a file where a folder is needed
+/// is named in the error.
 pub fn create_dir(dir: &Path) -> Result<(), IoError> {
-    std::fs::create_dir_all(dir).map_err(|e| IoError::new(dir, e))
+    std::fs::create_dir_all(dir).map_err(|e| {
+        // The nearest existing ancestor that is not a folder, if any, is the cause.
+        let blocker = dir
+            .ancestors()
+            .find(|a| std::fs::metadata(a).is_ok_and(|m| !m.is_dir()));
+        match blocker {
+            Some(file) => IoError::new(
+                dir,
+                io::Error::new(
+                    io::ErrorKind::NotADirectory,
+                    format!("cannot create this folder: `{}` is a file", file.display()),
+                ),
+            ),
+            None => IoError::new(dir, e),
+        }
+    })
 }
 
-/// A new empty file `.<name>.partial-XXXXXX<suffix>` in `path`'s folder (created if
-/// needed), deleted when dropped.
-fn temporary_file_for(path: &Path, suffix: &str) -> Result<NamedTempFile, IoError> {
-    let io = |source| IoError::new(path, source);
-    let name = path.file_name().ok_or_else(|| {
+/// The file an output to `path` replaces: `path` itself, or the regular file a symbolic
+/// link at `path` points to (the link stays). Anything else that exists there (a folder, a
+/// device, a FIFO, a socket) is not ours to replace and is refused.
+fn output_target(path: &Path) -> Result<PathBuf, IoError> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(path.to_path_buf());
+    };
+    if !meta.is_file() {
+        let kind = file_kind(&meta.file_type());
+        let message = format!(
+            "is {kind}, not a regular file; outputs are written only to regular files (give a file path)"
+        );
+        return Err(IoError::new(
+            path,
+            io::Error::new(io::ErrorKind::InvalidInput, message),
+        ));
+    }
+    let is_link = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    if is_link {
+        return std::fs::canonicalize(path).map_err(|e| IoError::new(path, e));
+    }
+    Ok(path.to_path_buf())
+}
+
+/// What a non-regular file is, in words.
+fn file_kind(kind: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_char_device() || kind.is_block_device() {
+            return "a device";
+        }
+        if kind.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() {
+        "a folder"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// Characters of the target's name kept in the temporary name, so that a long legal name
+/// (up to the usual 255 bytes) still leaves room for the `.partial-XXXXXX` decoration.
+const TEMPORARY_NAME_CHARS: usize = 64;
+
+/// A new empty file `.<name>.partial-XXXXXX<suffix>` in `target`'s folder (created if
+/// needed; `<name>` cut to [`TEMPORARY_NAME_CHARS`] characters), deleted when dropped.
+/// Errors name `named`, the path the user gave.
+fn temporary_file_for(target: &Path, named: &Path, suffix: &str) -> Result<NamedTempFile, IoError> {
+    let io = |source| IoError::new(named, source);
+    let name = target.file_name().ok_or_else(|| {
         io(io::Error::new(
             io::ErrorKind::InvalidInput,
             "not a file name",
         ))
     })?;
-    let dir = match path.parent() {
+    let dir = match target.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
         _ => Path::new("."),
     };
     create_dir(dir)?;
-    let mut prefix = std::ffi::OsString::from(".");
-    prefix.push(name);
-    prefix.push(".partial-");
+    let short: String = name
+        .to_string_lossy()
+        .chars()
+        .take(TEMPORARY_NAME_CHARS)
+        .collect();
+    let prefix = format!(".{short}.partial-");
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(suffix);
     // Temporary files are private (0600) by default; an output file gets what a plain
@@ -179,6 +290,43 @@ mod tests {
         assert!(failed.unwrap_err().to_string().contains("disk full"));
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    /// A FIFO or a folder at the output path is refused and left as it was; a link to a
+    /// regular file is written through (the link stays); a 250-character name works; a
+    /// file where a folder is needed is named.
+    #[cfg(unix)]
+    #[test]
+    fn only_regular_files_are_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let err = write_atomically(&fifo, |w| w.write_all(b"x")).unwrap_err();
+            assert!(err.to_string().contains("FIFO"), "{err}");
+            let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+            assert!(std::os::unix::fs::FileTypeExt::is_fifo(&kind));
+        }
+        let err = AtomicPath::create(dir.path()).unwrap_err();
+        assert!(err.to_string().contains("a folder"), "{err}");
+
+        let real = dir.path().join("real.txt");
+        std::fs::write(&real, "old").unwrap();
+        let link = dir.path().join("link.txt");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_atomically(&link, |w| w.write_all(b"new")).unwrap();
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+
+        let long = dir.path().join(format!("{}.csv", "n".repeat(246)));
+        write_atomically(&long, |w| w.write_all(b"long")).unwrap();
+        assert_eq!(std::fs::read_to_string(&long).unwrap(), "long");
+
+        let err = write_atomically(&real.join("x.mcap"), |w| w.write_all(b"x")).unwrap_err();
+        assert!(err.to_string().contains("real.txt` is a file"), "{err}");
     }
 
     #[test]

@@ -8,7 +8,7 @@
 mod atomic;
 mod csv;
 
-pub use atomic::{create_dir, write_atomically, AtomicFile, AtomicPath};
+pub use atomic::{create_dir, remove_temporary_files, write_atomically, AtomicFile, AtomicPath};
 pub use csv::{csv_field, Cell, CsvTable};
 
 use std::path::{Path, PathBuf};

@@ -142,9 +142,11 @@ enum RunFile {
 }
 
 impl RunFile {
-    /// Reads an MCAP recording (told by its magic bytes) or an impulse-trace CSV file.
+    /// Reads an MCAP recording (told by its magic bytes) or an impulse-trace CSV file, of
+    /// at most [`MAX_RECORDING_BYTES`](crate::MAX_RECORDING_BYTES) (a device or an endless
+    /// stream is refused at that size).
     fn read(path: &Path) -> Result<Self, RecordError> {
-        let bytes = std::fs::read(path).map_err(|e| RecordError::io(path, e))?;
+        let bytes = crate::mcap_read::read_input(path, crate::MAX_RECORDING_BYTES)?;
         let is_mcap_name = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));

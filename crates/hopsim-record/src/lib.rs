@@ -28,6 +28,7 @@ pub use hopsim_io::{write_atomically, AtomicFile};
 pub use mcap_format::{CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC};
 pub use mcap_read::{
     McapRecording, RecordingMetadata, SceneAttachment, StateSample, BRAKE_CHANNEL,
+    MAX_RECORDING_BYTES,
 };
 pub use mcap_write::McapRecorder;
 #[cfg(feature = "rerun")]
@@ -35,7 +36,9 @@ pub use rerun_sink::{RerunRecorder, RERUN_VIEWER_INSTALL, STEP_TIMELINE, TIME_TI
 
 /// Types of the public API from other hopsim crates, re-exported for the CLI and tests.
 pub use hopsim_model::{Shape, Terrain};
-pub use hopsim_step::{ImpulseSample, ImpulseTrace, TraceDifference, TraceTolerance};
+pub use hopsim_step::{
+    ImpulseSample, ImpulseTrace, TraceDifference, TraceTolerance, MAX_TRACE_BYTES,
+};
 
 use std::path::Path;
 

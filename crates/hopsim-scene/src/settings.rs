@@ -61,10 +61,34 @@ pub(crate) fn read_meta(meta: Option<Table<'_>>, default_title: &str) -> Result<
 /// `u64::MAX`.
 pub const MIN_DT: f64 = 1e-9;
 
+/// Default of `simulation.max_steps`: the most steps a run may take unless the scene allows
+/// more (a bound on run time that a typo in `duration` or `dt` cannot exceed).
+pub const DEFAULT_MAX_STEPS: f64 = 1e8;
+
 /// Reads `[simulation]` and `[summary]`.
 pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Settings, SceneError> {
     let duration = sim.f64("duration", Num::positive("s"))?;
     let dt = sim.f64("dt", Num::positive("s").at_least(MIN_DT))?;
+    let max_steps = sim.f64_or(
+        "max_steps",
+        DEFAULT_MAX_STEPS,
+        Num::positive("steps").at_least(1.0),
+    )?;
+    let steps = (duration / dt).ceil();
+    if steps > max_steps {
+        return Err(sim.error_at_key(
+            "duration",
+            format!(
+                "{} s in steps of {} s is {} steps, more than simulation.max_steps = {}; \
+                 raise simulation.max_steps (e.g. --set simulation.max_steps={}) to run this long",
+                number(duration),
+                number(dt),
+                number(steps),
+                number(max_steps),
+                number(steps)
+            ),
+        ));
+    }
     if dt >= duration {
         return Err(sim.error_at_key(
             "dt",

@@ -22,6 +22,9 @@ pub struct GridAxis {
     pub values: Vec<f64>,
 }
 
+/// The most values of one grid axis.
+pub const MAX_AXIS_POINTS: usize = 100_000;
+
 impl std::str::FromStr for GridAxis {
     type Err = String;
 
@@ -43,9 +46,11 @@ impl std::str::FromStr for GridAxis {
                 .trim()
                 .parse()
                 .ok()
-                .filter(|&n| n >= 1)
+                .filter(|&n| (1..=MAX_AXIS_POINTS).contains(&n))
                 .ok_or_else(|| {
-                    format!("grid axis '{s}': count '{count}' must be a positive integer")
+                    format!(
+                        "grid axis '{s}': count '{count}' must be an integer from 1 to {MAX_AXIS_POINTS}"
+                    )
                 })?;
             (0..count)
                 .map(|i| match count {

@@ -17,4 +17,6 @@ pub use actuation::{Actuation, ImpulseCommand, TorqueCommand};
 pub use record::{ContactRecord, ContactState, EnergyLedger, LcpStats, LockRecord, StepRecord};
 pub use state::State;
 pub use stepper::{StepError, StepSettings, Stepper};
-pub use trace::{ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance};
+pub use trace::{
+    ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance, MAX_TRACE_BYTES,
+};

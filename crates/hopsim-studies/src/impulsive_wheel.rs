@@ -13,6 +13,11 @@ use hopsim_io::CsvTable;
 use serde::Serialize;
 use std::f64::consts::FRAC_PI_2;
 
+/// The most iterations of a series.
+pub const MAX_ITERATIONS: usize = 1_000_000;
+/// The most impulse values of the bifurcation diagram.
+pub const MAX_BIFURCATION_POINTS: usize = 100_000;
+
 /// Iterations of the bifurcation diagram dropped as transient, and iterations kept.
 const TRANSIENT: usize = 500;
 const KEEP: usize = 64;
@@ -42,6 +47,13 @@ impl ImpulsiveWheelParams {
             require_non_negative("impulse", z)?;
         }
         require_finite("initial-angle", self.initial_angle_rad)?;
+        if self.iterations > MAX_ITERATIONS {
+            Err(AnalysisError::invalid(
+                "iterations",
+                self.iterations as f64,
+                &format!("must be at most {MAX_ITERATIONS}"),
+            ))?;
+        }
         if let Some(b) = &self.bifurcation {
             require_non_negative("impulse-min", b.impulse_min_n_s)?;
             if !(b.impulse_max_n_s.is_finite() && b.impulse_max_n_s > b.impulse_min_n_s) {
@@ -54,11 +66,11 @@ impl ImpulsiveWheelParams {
                     ),
                 ))?;
             }
-            if b.points < 2 {
+            if !(2..=MAX_BIFURCATION_POINTS).contains(&b.points) {
                 Err(AnalysisError::invalid(
                     "bifurcation-points",
                     b.points as f64,
-                    "must be at least 2",
+                    &format!("must be from 2 to {MAX_BIFURCATION_POINTS}"),
                 ))?;
             }
         }

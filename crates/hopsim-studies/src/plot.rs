@@ -15,7 +15,7 @@
 //! PNG/SVG output from [`write_png`], [`write_svg`] and [`write_png_and_svg`].
 
 use crate::error::{Result, StudyError};
-use hopsim_io::{write_atomically, AtomicPath};
+use hopsim_io::{AtomicPath, IoError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -39,45 +39,65 @@ pub trait Figure {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult;
 }
 
-/// Writes `figure` as a PNG file at `path` (atomically).
-pub fn write_png<F: Figure>(figure: &F, path: &Path) -> Result<()> {
+/// Draws `figure` as a PNG file into a temporary file for `path`, committed by the caller.
+fn stage_png<F: Figure>(figure: &F, path: &Path) -> Result<AtomicPath> {
     let output = AtomicPath::create(path)?;
     {
         let root = BitMapBackend::new(output.temporary(), figure.size()).into_drawing_area();
         figure
             .draw(&root)
             .and_then(|()| root.present().map_err(|e| e.to_string()))
-            .map_err(|message| StudyError::Plot {
-                path: path.to_path_buf(),
-                message,
-            })?;
+            .map_err(|message| plot_error(path, message))?;
     }
-    Ok(output.commit()?)
+    Ok(output)
 }
 
-/// Writes `figure` as an SVG file at `path` (atomically).
-pub fn write_svg<F: Figure>(figure: &F, path: &Path) -> Result<()> {
+/// Draws `figure` as an SVG file into a temporary file for `path`, committed by the caller.
+fn stage_svg<F: Figure>(figure: &F, path: &Path) -> Result<AtomicPath> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, figure.size()).into_drawing_area();
         figure
             .draw(&root)
             .and_then(|()| root.present().map_err(|e| e.to_string()))
-            .map_err(|message| StudyError::Plot {
-                path: path.to_path_buf(),
-                message,
-            })?;
+            .map_err(|message| plot_error(path, message))?;
     }
-    Ok(write_atomically(path, |w| w.write_all(svg.as_bytes()))?)
+    let output = AtomicPath::create(path)?;
+    std::fs::write(output.temporary(), svg).map_err(|e| IoError::new(path, e))?;
+    Ok(output)
 }
 
-/// Writes `stem.png` and `stem.svg`; returns both paths.
+fn plot_error(path: &Path, message: String) -> StudyError {
+    StudyError::Plot {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// Draws `stem.png` and `stem.svg` into temporary files, committed by the caller (so that a
+/// set of files appears together, [`crate::write_files`]).
+pub fn stage_png_and_svg<F: Figure>(figure: &F, stem: &Path) -> Result<Vec<AtomicPath>> {
+    Ok(vec![
+        stage_png(figure, &stem.with_extension("png"))?,
+        stage_svg(figure, &stem.with_extension("svg"))?,
+    ])
+}
+
+/// Writes `stem.png` and `stem.svg` (atomically, both or neither); returns both paths.
 pub fn write_png_and_svg<F: Figure>(figure: &F, stem: &Path) -> Result<Vec<PathBuf>> {
-    let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
-    write_png(figure, &png)?;
-    write_svg(figure, &svg)?;
-    Ok(vec![png, svg])
+    commit_all(stage_png_and_svg(figure, stem)?)
+}
+
+/// Commits every staged file, in order; returns their paths.
+pub fn commit_all(staged: Vec<AtomicPath>) -> Result<Vec<PathBuf>> {
+    staged
+        .into_iter()
+        .map(|output| {
+            let path = output.path().to_path_buf();
+            output.commit()?;
+            Ok(path)
+        })
+        .collect()
 }
 
 /// How a series is drawn.

@@ -3,8 +3,9 @@
 //! them. Front ends (the command line, Python) only choose which of these to show.
 
 use crate::error::Result;
-use crate::plot::{write_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot};
+use crate::plot::{commit_all, stage_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot};
 use hopsim_io::CsvTable;
+use hopsim_io::{AtomicPath, IoError};
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -92,24 +93,27 @@ impl ReportFile {
     }
 }
 
-/// Writes `files` into `dir` (created if missing), each atomically; returns the paths
-/// written, in order.
+/// Writes `files` into `dir` (created if missing) as one set: every file is first written
+/// completely under a temporary name, and only then are they all renamed into place, so a
+/// failed or interrupted study leaves none of them. Returns the paths written, in order.
 pub fn write_files(dir: &Path, files: &[ReportFile]) -> Result<Vec<PathBuf>> {
     hopsim_io::create_dir(dir)?;
-    let mut written = Vec::new();
+    let mut staged = Vec::new();
     for file in files {
         match file {
             ReportFile::Csv { name, table } => {
                 let path = dir.join(name);
-                table.write(&path)?;
-                written.push(path);
+                let output = AtomicPath::create(&path)?;
+                std::fs::write(output.temporary(), table.to_csv_string())
+                    .map_err(|e| IoError::new(&path, e))?;
+                staged.push(output);
             }
             ReportFile::Figure { stem, figure } => {
-                written.extend(write_png_and_svg(figure, &dir.join(stem))?);
+                staged.extend(stage_png_and_svg(figure, &dir.join(stem))?);
             }
         }
     }
-    Ok(written)
+    commit_all(staged)
 }
 
 /// A two-column text table with a title.

@@ -111,7 +111,12 @@ pub struct SweepParams {
     /// The figure plotted against the first axis (scenes without the Robbit controller),
     /// one of the CSV columns ([`metric_name`]).
     pub y: String,
+    /// The most grid points the sweep may run ([`DEFAULT_MAX_RUNS`] unless raised).
+    pub max_runs: usize,
 }
+
+/// Default of [`SweepParams::max_runs`]: 100 000 runs (the thesis' 150 × 150 grid is 22 500).
+pub const DEFAULT_MAX_RUNS: usize = 100_000;
 
 /// Why a sweep cannot start.
 #[derive(Debug, thiserror::Error)]
@@ -123,6 +128,10 @@ pub enum SweepInputError {
          baseline its own name"
     )]
     TakenName(String),
+    #[error(
+        "the grid has {runs} points, more than --max-runs {limit}; raise --max-runs to run it"
+    )]
+    TooManyRuns { runs: String, limit: usize },
     /// The scene of the grid's first point or of a baseline is invalid (`what` names it).
     #[error("{what} is invalid: {error}")]
     InvalidRun { what: String, error: SceneError },
@@ -160,6 +169,17 @@ impl<'a> Sweep<'a> {
                 return Err(SweepInputError::TakenName(b.name.clone()));
             }
             names.push(&b.name);
+        }
+        let runs = params
+            .axes
+            .iter()
+            .try_fold(1usize, |n, a| n.checked_mul(a.values.len()));
+        if runs.is_none_or(|n| n > params.max_runs) {
+            let runs = runs.map_or_else(|| "too many".to_string(), |n| n.to_string());
+            return Err(SweepInputError::TooManyRuns {
+                runs,
+                limit: params.max_runs,
+            });
         }
         let mut jobs = grid_jobs(&params.axes);
         let first_baseline = jobs.len();

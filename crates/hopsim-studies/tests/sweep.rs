@@ -18,6 +18,7 @@ fn params(axes: &[&str], baselines: &[&str]) -> SweepParams {
         axes: axes.iter().map(|a| a.parse().unwrap()).collect(),
         baselines: baselines.iter().map(|b| b.parse().unwrap()).collect(),
         y: "distance_per_hop_m".into(),
+        max_runs: hopsim_studies::sweep::DEFAULT_MAX_RUNS,
     }
 }
 
