@@ -261,6 +261,18 @@ fn bad_numbers_are_clear_errors_not_panics() {
         ],
         &["analyze", "fixed-points", "--simulate", "--duration", "1e6"],
     ]);
+    // Magnitudes that would overflow the models are refused, and printed short.
+    for args in [
+        &["analyze", "impulsive-wheel", "--impulse", "1e308"][..],
+        &["analyze", "impulsive-wheel", "--initial-angle", "1e308"],
+        &["analyze", "obstacle", "--speed", "1e308"],
+        &["analyze", "template", "--mass", "1e308"],
+    ] {
+        let out = hopsim(args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains("= 1e308: "), "{args:?}: {stderr}");
+    }
 }
 
 /// `fixed-points --json` on the default 30 × 30 grid: every point is a fixed point with

@@ -116,7 +116,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
                 eprintln!("error: no output was written: the run did not finish");
             }
             return Ok(ExitCode::from(match err {
-                RunError::Step(_) => exit::SIMULATION_FAILED,
+                RunError::Step(_) | RunError::NotFinite { .. } => exit::SIMULATION_FAILED,
                 RunError::Record(_) => 1,
                 RunError::Interrupted { .. } => interrupt::exit_code(),
             }));

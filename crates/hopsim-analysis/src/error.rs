@@ -34,34 +34,47 @@ impl AnalysisError {
     pub fn invalid(name: &str, value: f64, reason: &str) -> Self {
         AnalysisError::InvalidParameter {
             name: name.to_string(),
-            value: format!("{value}"),
+            value: short_number(value),
             reason: reason.to_string(),
         }
     }
 }
 
-/// Checks that `value` is finite and strictly positive.
+/// `value` in its shortest exact form (`3`, `0.25`, `1e308`; never 300 digits).
+fn short_number(value: f64) -> String {
+    if value.fract() == 0.0 && value.abs() < 1e16 {
+        format!("{}", value as i64)
+    } else {
+        format!("{value:?}")
+    }
+}
+
+/// The largest magnitude a parameter may have (as in scene files): beyond it the models'
+/// figures overflow to `inf` or `NaN`.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+/// Checks that `value` is finite, strictly positive and at most [`MAX_MAGNITUDE`].
 pub fn require_positive(name: &str, value: f64) -> Result<()> {
-    if value.is_finite() && value > 0.0 {
+    if value > 0.0 && value <= MAX_MAGNITUDE {
         Ok(())
     } else {
         Err(AnalysisError::invalid(
             name,
             value,
-            "must be a finite number > 0",
+            "must be a finite number > 0 of magnitude at most 1e9",
         ))
     }
 }
 
-/// Checks that `value` is finite.
+/// Checks that `value` is finite with magnitude at most [`MAX_MAGNITUDE`].
 pub fn require_finite(name: &str, value: f64) -> Result<()> {
-    if value.is_finite() {
+    if value.abs() <= MAX_MAGNITUDE {
         Ok(())
     } else {
         Err(AnalysisError::invalid(
             name,
             value,
-            "must be a finite number",
+            "must be a finite number of magnitude at most 1e9",
         ))
     }
 }

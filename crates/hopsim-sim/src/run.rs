@@ -19,5 +19,9 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<Summary, RunErr
         sim.step(&mut both)?;
     }
     let wall_time_s = started.elapsed().as_secs_f64();
-    Ok(summary.finish(&sim.view(), sim.stepper().lcp_stats(), wall_time_s))
+    let summary = summary.finish(&sim.view(), sim.stepper().lcp_stats(), wall_time_s);
+    match summary.first_non_finite() {
+        Some((figure, value)) => Err(RunError::NotFinite { figure, value }),
+        None => Ok(summary),
+    }
 }

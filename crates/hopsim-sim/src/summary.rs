@@ -172,6 +172,32 @@ impl SummaryCollector {
     }
 }
 
+impl Summary {
+    /// The first figure that is not finite, with its value; `None` when all are. The
+    /// ratios that are NaN by definition (per hop without hops, per metre without forward
+    /// motion) are not checked.
+    pub fn first_non_finite(&self) -> Option<(&'static str, f64)> {
+        let e = &self.energy.at_end;
+        [
+            ("distance", self.distance_m),
+            ("mean speed", self.mean_speed_mps),
+            ("speed window", self.speed_window_s),
+            ("total impulse", self.impulses.total),
+            ("maximum penetration", self.max_penetration_m),
+            ("kinetic energy", e.kinetic),
+            ("potential energy", e.potential),
+            ("spring energy", e.spring),
+            ("actuator work", e.actuator_work),
+            ("dissipated energy", e.dissipated),
+            ("energy balance error", self.energy.max_abs_balance_error),
+            ("window distance", self.window.distance_m),
+            ("window impulse", self.window.impulse),
+        ]
+        .into_iter()
+        .find(|(_, v)| !v.is_finite())
+    }
+}
+
 /// The robot's centre-of-mass abscissa in `state`.
 fn com_x(model: &Model, state: &State) -> f64 {
     let mut kinematics = Kinematics::new(model);

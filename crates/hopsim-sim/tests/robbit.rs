@@ -317,3 +317,20 @@ fn summary_window_figures_follow_from_the_run() {
     );
     assert!(close(w.impulse, zeta_sum), "{} vs {zeta_sum}", w.impulse);
 }
+
+/// A summary whose figures are all finite passes; an overflowed figure (as a state near
+/// `1e308` would give) is named with its value, so that `run` reports it as an error
+/// instead of printing `inf` or `NaN`; the ratios that are NaN by definition are not
+/// figures that overflowed.
+#[test]
+fn an_overflowed_summary_figure_is_named() {
+    let mut s = run(&scene("robbit.toml", &["simulation.duration=0.5"]), &mut ());
+    assert_eq!(s.first_non_finite(), None);
+    s.distance_per_hop_m = f64::NAN;
+    assert_eq!(s.first_non_finite(), None);
+    s.energy.at_end.potential = f64::INFINITY;
+    assert_eq!(
+        s.first_non_finite(),
+        Some(("potential energy", f64::INFINITY))
+    );
+}

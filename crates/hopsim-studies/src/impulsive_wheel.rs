@@ -78,12 +78,13 @@ impl ImpulsiveWheelParams {
     }
 }
 
-/// Checks that an impulse is finite and ≥ 0.
+/// Checks that an impulse is finite, ≥ 0 and at most `MAX_MAGNITUDE`.
 fn require_non_negative(name: &str, value: f64) -> Result<()> {
-    if value.is_finite() && value >= 0.0 {
+    require_finite(name, value)?;
+    if value >= 0.0 {
         Ok(())
     } else {
-        Err(AnalysisError::invalid(name, value, "must be finite and ≥ 0").into())
+        Err(AnalysisError::invalid(name, value, "must be ≥ 0").into())
     }
 }
 
