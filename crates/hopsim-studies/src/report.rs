@@ -3,7 +3,7 @@
 //! them. Front ends (the command line, Python) only choose which of these to show.
 
 use crate::error::Result;
-use crate::plot::{write_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot};
+use crate::plot::{write_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot, PlotStack};
 use hopsim_io::CsvTable;
 use serde::Serialize;
 use std::fmt;
@@ -25,6 +25,7 @@ pub enum AnyFigure {
     Line(LinePlot),
     Heatmap(Heatmap),
     Categories(CategoryMap),
+    Stack(PlotStack),
 }
 
 impl From<LinePlot> for AnyFigure {
@@ -45,12 +46,19 @@ impl From<CategoryMap> for AnyFigure {
     }
 }
 
+impl From<PlotStack> for AnyFigure {
+    fn from(f: PlotStack) -> Self {
+        AnyFigure::Stack(f)
+    }
+}
+
 impl Figure for AnyFigure {
     fn size(&self) -> (u32, u32) {
         match self {
             AnyFigure::Line(f) => f.size(),
             AnyFigure::Heatmap(f) => f.size(),
             AnyFigure::Categories(f) => f.size(),
+            AnyFigure::Stack(f) => f.size(),
         }
     }
 
@@ -62,6 +70,7 @@ impl Figure for AnyFigure {
             AnyFigure::Line(f) => f.draw(root),
             AnyFigure::Heatmap(f) => f.draw(root),
             AnyFigure::Categories(f) => f.draw(root),
+            AnyFigure::Stack(f) => f.draw(root),
         }
     }
 }
