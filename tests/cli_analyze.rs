@@ -736,27 +736,22 @@ fn gait_of_a_scene_and_of_its_recording() {
 /// CaneBot's cycles are its motor periods unless another split is asked for.
 #[test]
 fn gait_splits_canebot_at_its_motor_period() {
-    let v = json(&[
-        "analyze",
-        "gait",
-        "scenes/canebot.toml",
-        "--duration",
-        "3",
-        "--json",
-    ]);
+    let canebot = |split: &[&str]| {
+        let scene = [
+            "analyze",
+            "gait",
+            "scenes/canebot.toml",
+            "--duration",
+            "3",
+            "--json",
+        ];
+        json(&[&scene[..], split].concat())
+    };
+    let v = canebot(&[]);
     assert_eq!(v["split"]["kind"], "period");
     let period = finite(&v["split"], "period_s");
     assert!((period - 1.0 / 2.8).abs() < 1e-12);
-    let v = json(&[
-        "analyze",
-        "gait",
-        "scenes/canebot.toml",
-        "--duration",
-        "3",
-        "--split",
-        "take-off",
-        "--json",
-    ]);
+    let v = canebot(&["--split", "take-off"]);
     assert_eq!(v["split"]["event"], "take_off");
 }
 
@@ -767,46 +762,29 @@ fn gait_rejects_bad_input_with_exit_2() {
     let not_mcap = dir.path().join("text.mcap");
     std::fs::write(&not_mcap, "not a recording").unwrap();
     let not_mcap = not_mcap.display().to_string();
-    assert_invalid_input(&[
-        &["analyze", "gait", "scenes/robbit.toml", "--split", "hop"],
-        &["analyze", "gait", "scenes/robbit.toml", "--split", "period"],
-        &[
-            "analyze",
-            "gait",
-            "scenes/robbit.toml",
-            "--split",
-            "period",
-            "--period",
-            "0",
-        ],
-        &[
-            "analyze",
-            "gait",
-            "scenes/robbit.toml",
-            "--split",
-            "brake",
-            "--period",
-            "0.3",
-        ],
-        &["analyze", "gait", "scenes/robbit.toml", "--last", "0"],
-        &["analyze", "gait", "scenes/robbit.toml", "--duration", "0.2"],
-        &[
-            "analyze",
-            "gait",
-            "scenes/robbit.toml",
-            "--set",
-            "controller.off_time=0.1",
-        ],
-        &["analyze", "gait", "tests/scenes/invalid/negative_mass.toml"],
-        &["analyze", "gait", "scenes/no-such-scene.toml"],
-        &["analyze", "gait", &mcap],
-        &["analyze", "gait", &not_mcap],
-        &[
+    fn robbit<'a>(args: &[&'a str]) -> Vec<&'a str> {
+        [&["analyze", "gait", "scenes/robbit.toml"][..], args].concat()
+    }
+    let cases = [
+        robbit(&["--split", "hop"]),
+        robbit(&["--split", "period"]),
+        robbit(&["--split", "period", "--period", "0"]),
+        robbit(&["--split", "brake", "--period", "0.3"]),
+        robbit(&["--last", "0"]),
+        robbit(&["--duration", "0.2"]),
+        robbit(&["--set", "controller.off_time=0.1"]),
+        vec!["analyze", "gait", "tests/scenes/invalid/negative_mass.toml"],
+        vec!["analyze", "gait", "scenes/no-such-scene.toml"],
+        vec!["analyze", "gait", &mcap],
+        vec!["analyze", "gait", &not_mcap],
+        vec![
             "analyze",
             "gait",
             &not_mcap,
             "--set",
             "controller.torque=0.3",
         ],
-    ]);
+    ];
+    let cases: Vec<&[&str]> = cases.iter().map(Vec::as_slice).collect();
+    assert_invalid_input(&cases);
 }

@@ -86,12 +86,14 @@ fn robbit_scenes_run_the_thesis_controls() {
 /// the off time, not for the rearm timeout.
 #[test]
 fn release_modes_and_their_timing_keys() {
-    let release = |overrides: &[&str]| -> Result<Release, String> {
-        match load("scenes/robbit.toml", overrides)?.controller {
+    let release_of = |name: &str, overrides: &[&str]| -> Result<Release, String> {
+        match load(name, overrides)?.controller {
             ControllerConfig::MomentumImpulse(c) => Ok(c.release),
             other => panic!("{other:?}"),
         }
     };
+    let release = |overrides: &[&str]| release_of("scenes/robbit.toml", overrides);
+    let experiment = |overrides: &[&str]| release_of("scenes/robbit-experiment.toml", overrides);
     assert_eq!(
         release(&["controller.rearm_timeout=0.25"]),
         Ok(Release::Touchdown {
@@ -104,12 +106,6 @@ fn release_modes_and_their_timing_keys() {
         e.contains("controller.rearm_timeout: applies to release = \"touchdown\" only"),
         "{e}"
     );
-    let experiment = |overrides: &[&str]| -> Result<Release, String> {
-        match load("scenes/robbit-experiment.toml", overrides)?.controller {
-            ControllerConfig::MomentumImpulse(c) => Ok(c.release),
-            other => panic!("{other:?}"),
-        }
-    };
     assert_eq!(
         experiment(&["controller.off_time=0"]),
         Ok(Release::OffTime { off_time: 0.0 })

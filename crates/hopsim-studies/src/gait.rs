@@ -653,29 +653,20 @@ impl GaitReport {
     /// The Fig. 5.11 overlay: one panel each for `x − x(start)`, `y` and `φ`.
     fn profile_figure(&self) -> PlotStack {
         let p = &self.profiles;
+        let curve = |values: &[f64], color, size| {
+            let points = p.progress.iter().copied().zip(values.iter().copied());
+            Series::line("", points.collect())
+                .color(color)
+                .size(size)
+                .unlabelled()
+        };
         let panel = |label: &str, rows: &[Vec<f64>], mean: &[f64]| {
-            let mut plot = LinePlot::new("", "cycle progress [%]", label).with_x_range(0.0, 100.0);
-            for row in rows {
-                let points = p
-                    .progress
-                    .iter()
-                    .copied()
-                    .zip(row.iter().copied())
-                    .collect();
-                plot = plot.with_series(
-                    Series::line("", points)
-                        .color(PALETTE[0])
-                        .size(1)
-                        .unlabelled(),
-                );
-            }
-            let points = p
-                .progress
-                .iter()
-                .copied()
-                .zip(mean.iter().copied())
-                .collect();
-            plot.with_series(Series::line("", points).color(BLACK).size(3).unlabelled())
+            let plot = LinePlot::new("", "cycle progress [%]", label).with_x_range(0.0, 100.0);
+            rows.iter()
+                .fold(plot, |plot, row| {
+                    plot.with_series(curve(row, PALETTE[0], 1))
+                })
+                .with_series(curve(mean, BLACK, 3))
         };
         PlotStack::new(
             format!(
