@@ -655,6 +655,7 @@ fn quiet_prints_nothing_but_keeps_json_and_files() {
             "0.2",
         ][..],
         &["analyze", "fixed-points", "--grid", "2x2"][..],
+        &["analyze", "gait", "scenes/robbit.toml", "--duration", "2"][..],
     ] {
         let out = dir.path().join(args[1]);
         let quiet = hopsim_ok(&[args, &["-q", "--out", out.to_str().unwrap()]].concat());
@@ -664,4 +665,155 @@ fn quiet_prints_nothing_but_keeps_json_and_files() {
         let v = json(&[args, &["--quiet", "--json"]].concat());
         assert!(v["analysis"].is_string(), "{args:?}");
     }
+}
+
+/// `hopsim analyze gait` on a scene and on its MCAP recording: the report's keys, its files,
+/// and the same cycles from both (the brake events are recorded exactly).
+#[test]
+fn gait_of_a_scene_and_of_its_recording() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).display().to_string();
+    let scene = "scenes/robbit-experiment.toml";
+    let v = json(&[
+        "analyze",
+        "gait",
+        scene,
+        "--duration",
+        "3",
+        "--last",
+        "4",
+        "--json",
+        "--out",
+        &p("out"),
+    ]);
+    assert_eq!(v["analysis"], "gait");
+    assert_eq!(v["split"]["kind"], "event");
+    assert_eq!(v["split"]["event"], "brake");
+    assert!((finite(&v, "duration_s") - 3.0).abs() < 1e-9);
+    let cycles = v["cycles"].as_array().unwrap();
+    assert!(cycles.len() >= 8, "{} cycles in 3 s", cycles.len());
+    for key in [
+        "start_s",
+        "period_s",
+        "distance_m",
+        "speed_mps",
+        "flight_fraction",
+        "stance_fraction",
+        "motor_on_fraction",
+        "apex_height_m",
+    ] {
+        finite(&cycles[0], key);
+    }
+    assert_eq!(v["last"]["cycles"], 4);
+    for key in [
+        "mean_period_s",
+        "speed_mps",
+        "flight_fraction",
+        "motor_on_fraction",
+    ] {
+        finite(&v["last"], key);
+    }
+    assert!(v["periodicity"]["residuals"].as_array().unwrap().len() == 4);
+    assert!(v["periodicity"].get("period").is_some());
+    assert_eq!(
+        v["profiles"]["progress_percent"].as_array().unwrap().len(),
+        101
+    );
+    assert_eq!(v["profiles"]["y_m"].as_array().unwrap().len(), 4);
+    let files: Vec<&str> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    for name in [
+        "gait_cycles.csv",
+        "gait_profiles.csv",
+        "gait_profiles.png",
+        "gait_profiles.svg",
+        "gait_periodicity.png",
+        "gait_periodicity.svg",
+    ] {
+        assert!(
+            files.iter().any(|f| f.ends_with(name)),
+            "{name} not in {files:?}"
+        );
+        assert!(Path::new(&p("out")).join(name).is_file(), "{name}");
+    }
+    let csv = std::fs::read_to_string(Path::new(&p("out")).join("gait_cycles.csv")).unwrap();
+    assert_eq!(csv.lines().count(), cycles.len() + 1);
+
+    hopsim_ok(&[
+        "run",
+        scene,
+        "--duration",
+        "3",
+        "--mcap",
+        &p("run.mcap"),
+        "-q",
+    ]);
+    let r = json(&["analyze", "gait", &p("run.mcap"), "--last", "4", "--json"]);
+    assert_eq!(r["source"], p("run.mcap"));
+    let recorded = r["cycles"].as_array().unwrap();
+    assert_eq!(recorded.len(), cycles.len());
+    for (a, b) in cycles.iter().zip(recorded) {
+        assert_eq!(a["start_s"], b["start_s"]);
+        assert_eq!(a["period_s"], b["period_s"]);
+    }
+}
+
+/// CaneBot's cycles are its motor periods unless another split is asked for.
+#[test]
+fn gait_splits_canebot_at_its_motor_period() {
+    let canebot = |split: &[&str]| {
+        let scene = [
+            "analyze",
+            "gait",
+            "scenes/canebot.toml",
+            "--duration",
+            "3",
+            "--json",
+        ];
+        json(&[&scene[..], split].concat())
+    };
+    let v = canebot(&[]);
+    assert_eq!(v["split"]["kind"], "period");
+    let period = finite(&v["split"], "period_s");
+    assert!((period - 1.0 / 2.8).abs() < 1e-12);
+    let v = canebot(&["--split", "take-off"]);
+    assert_eq!(v["split"]["event"], "take_off");
+}
+
+#[test]
+fn gait_rejects_bad_input_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("missing.mcap").display().to_string();
+    let not_mcap = dir.path().join("text.mcap");
+    std::fs::write(&not_mcap, "not a recording").unwrap();
+    let not_mcap = not_mcap.display().to_string();
+    fn robbit<'a>(args: &[&'a str]) -> Vec<&'a str> {
+        [&["analyze", "gait", "scenes/robbit.toml"][..], args].concat()
+    }
+    let cases = [
+        robbit(&["--split", "hop"]),
+        robbit(&["--split", "period"]),
+        robbit(&["--split", "period", "--period", "0"]),
+        robbit(&["--split", "brake", "--period", "0.3"]),
+        robbit(&["--last", "0"]),
+        robbit(&["--duration", "0.2"]),
+        robbit(&["--set", "controller.off_time=0.1"]),
+        vec!["analyze", "gait", "tests/scenes/invalid/negative_mass.toml"],
+        vec!["analyze", "gait", "scenes/no-such-scene.toml"],
+        vec!["analyze", "gait", &mcap],
+        vec!["analyze", "gait", &not_mcap],
+        vec![
+            "analyze",
+            "gait",
+            &not_mcap,
+            "--set",
+            "controller.torque=0.3",
+        ],
+    ];
+    let cases: Vec<&[&str]> = cases.iter().map(Vec::as_slice).collect();
+    assert_invalid_input(&cases);
 }

@@ -18,6 +18,7 @@ reported loudly too, with exit status 0.
 
 import argparse
 import json
+import tomllib
 import os
 import platform
 import statistics
@@ -43,11 +44,9 @@ PROBLEMS = [
 # z agreement: |z_siconos - z_hopsim|_inf <= Z_TOL * max(1, |z|_inf).
 Z_TOL = 1e-7
 
-# Robbit's controller (scenes/robbit.toml, physics.md 5.3), emulated once in closed loop to
-# get the open-loop controls that the timed MuJoCo rollout replays.
-TORQUE = 0.16  # N m
-IMPULSE_LIMIT = 0.059  # N m s
-REARM_TIMEOUT = 1.0  # s (the scene default)
+# Robbit's controller (physics.md 5.3) is read from the scene hopsim runs (--scene) and
+# emulated once in closed loop to get the open-loop controls that the timed MuJoCo rollout
+# replays; robbit.xml has Table 5.1's bodies.
 I_S, I_R = 3.004e-3, 1.543e-3
 DURATION = 20.0  # s
 
@@ -184,11 +183,24 @@ def bench_lcps(args):
     return table(header, rows), problems_out, failures, warnings
 
 
-def robbit_controls(mujoco, np, model):
+def scene_control(path):
+    """(torque N m, impulse limit N m s, rearm timeout s) of the scene's momentum-impulse
+    controller; the emulation below knows the touchdown release only."""
+    with open(path, "rb") as f:
+        c = tomllib.load(f)["controller"]
+    if c.get("type") != "momentum_impulse" or c.get("release", "touchdown") != "touchdown":
+        sys.exit(f"error: {path}: the MuJoCo peer emulates the momentum-impulse controller "
+                 "with release = \"touchdown\" only")
+    return float(c["torque"]), float(c["impulse_limit"]), float(c.get("rearm_timeout", 1.0))
+
+
+def robbit_controls(mujoco, np, model, control):
     """Robbit's momentum-impulse controller run once in closed loop on the MuJoCo model:
     motor on in stance until the stored impulse reaches the limit, then the brake (held
     until the relative rate has dropped to 1 %), motor off until touchdown or the rearm
-    timeout. Returns the controls (nstep x 2: motor torque, brake) and a description."""
+    timeout. `control` is (torque, impulse limit, rearm timeout). Returns the controls
+    (nstep x 2: motor torque, brake) and a description."""
+    torque, impulse_limit, rearm_timeout = control
     data = mujoco.MjData(model)
     nstep = int(round(DURATION / model.opt.timestep))
     i_red = I_S * I_R / (I_S + I_R)
@@ -201,19 +213,19 @@ def robbit_controls(mujoco, np, model):
         contact = data.ncon > 0
         contact_steps += contact
         if not stance:
-            if (airborne and contact) or (contact and data.time - since >= REARM_TIMEOUT):
+            if (airborne and contact) or (contact and data.time - since >= rearm_timeout):
                 stance = True
             else:
                 airborne = airborne or not contact
         takeoffs += was_contact and not contact
         was_contact = contact
         rate = data.qvel[psi]
-        if stance and i_red * rate >= IMPULSE_LIMIT:
+        if stance and i_red * rate >= impulse_limit:
             stance, since, airborne, braking, brake_rate = False, data.time, False, True, rate
             brakes += 1
         if braking and abs(rate) < 0.01 * abs(brake_rate):
             braking = False
-        ctrl[k] = (TORQUE, 0.0) if stance else (0.0, 1.0 if braking else 0.0)
+        ctrl[k] = (torque, 0.0) if stance else (0.0, 1.0 if braking else 0.0)
         data.ctrl[:] = ctrl[k]
         mujoco.mj_step(model, data)
     return ctrl, {"brakes": brakes, "takeoffs": int(takeoffs),
@@ -229,7 +241,7 @@ def bench_rollout(args):
         sys.exit(f"error: MuJoCo's Python package is missing ({e}); install it with "
                  "`python3 -m pip install 'mujoco>=3.2'` (run.sh does this)")
     model = mujoco.MjModel.from_xml_path(str(HERE / "robbit.xml"))
-    ctrl, info = robbit_controls(mujoco, np, model)
+    ctrl, info = robbit_controls(mujoco, np, model, scene_control(args.scene))
     nstep = ctrl.shape[0]
     data = mujoco.MjData(model)
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS

@@ -11,21 +11,18 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use super::exit;
 use super::interrupt::{self, StopOnSignal};
 use super::progress::RunProgress;
-use super::{exit, scene::SceneArgs};
+use super::scene::{SceneArgs, TimingArgs};
 
 /// Simulate a scene file, record the trajectory and print the run summary.
 #[derive(Args)]
 pub struct RunArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Simulated time in seconds (overrides simulation.duration).
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
-    pub duration: Option<f64>,
-    /// Step size in seconds (overrides simulation.dt).
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
-    pub dt: Option<f64>,
+    #[command(flatten)]
+    pub timing: TimingArgs,
     /// Write an MCAP recording (Foxglove, Python `mcap` reader).
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
@@ -50,21 +47,7 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
-    let mut extra = Vec::new();
-    if let Some(d) = args.duration {
-        extra.push(Override::from_flag(
-            "--duration",
-            "simulation.duration",
-            format!("{d:?}"),
-        ));
-    }
-    if let Some(dt) = args.dt {
-        extra.push(Override::from_flag(
-            "--dt",
-            "simulation.dt",
-            format!("{dt:?}"),
-        ));
-    }
+    let mut extra = args.timing.overrides();
     if args.strict {
         extra.push(Override::from_flag("--strict", "simulation.strict", "true"));
     }

@@ -31,6 +31,30 @@ impl SceneArgs {
     }
 }
 
+/// `--duration` and `--dt` of a command that runs a scene.
+#[derive(Args, Clone, Debug, Default)]
+pub struct TimingArgs {
+    /// Simulated time in seconds (overrides simulation.duration).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
+    pub duration: Option<f64>,
+    /// Step size in seconds (overrides simulation.dt).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = super::finite)]
+    pub dt: Option<f64>,
+}
+
+impl TimingArgs {
+    /// The overrides these options set, each naming its option in errors.
+    pub fn overrides(&self) -> Vec<Override> {
+        let duration = self
+            .duration
+            .map(|d| Override::from_flag("--duration", "simulation.duration", format!("{d:?}")));
+        let dt = self
+            .dt
+            .map(|dt| Override::from_flag("--dt", "simulation.dt", format!("{dt:?}")));
+        duration.into_iter().chain(dt).collect()
+    }
+}
+
 /// Scene files: validate without running.
 #[derive(Args)]
 pub struct SceneCommandArgs {
@@ -63,8 +87,8 @@ fn describe(scene: &Scene) -> String {
     let controller = match &scene.controller {
         ControllerConfig::Passive => "passive".to_string(),
         ControllerConfig::MomentumImpulse(c) => format!(
-            "momentum-stored impulse on '{}' (T = {} N m, ζ0 = {} N m s)",
-            m.bodies[c.flywheel].name, c.torque, c.impulse_limit
+            "momentum-stored impulse on '{}' (T = {} N m, ζ0 = {} N m s), {}",
+            m.bodies[c.flywheel].name, c.torque, c.impulse_limit, c.release
         ),
         ControllerConfig::Pulse(c) => format!(
             "torque pulse on '{}' (±{} N m for {} s every {:.4} s), cane {}",

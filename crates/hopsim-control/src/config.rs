@@ -9,13 +9,45 @@ pub struct MomentumImpulseConfig {
     pub torque: f64,
     /// Impulse limit `ζ0`, N m s: brake when `ζ = I_S I_R/(I_S + I_R) (ψ̇ - φ̇) ≥ ζ0`.
     pub impulse_limit: f64,
-    /// If no touchdown follows a brake within this time (the brake did not lift the
-    /// disc), the next cycle starts anyway, s.
-    pub rearm_timeout: f64,
+    /// When the motor comes back on after a brake.
+    pub release: Release,
     /// Keep the brake engaged (the rates locked) from the brake until the next cycle
-    /// starts at touchdown; otherwise the lock acts in the brake's step only and the
-    /// flywheel then turns freely with the motor off.
+    /// starts; otherwise the lock acts in the brake's step only and the flywheel then
+    /// turns freely with the motor off.
     pub hold_brake: bool,
+}
+
+/// When the next cycle starts (the motor back on) after a brake (physics.md §5.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Release {
+    /// Motor off until the disc touches the ground again after a flight (the thesis'
+    /// simulation). A brake that does not lift the disc is followed by no flight: then the
+    /// next cycle starts once `rearm_timeout` seconds have passed since the brake with the
+    /// disc in contact.
+    Touchdown {
+        /// s, > 0.
+        rearm_timeout: f64,
+    },
+    /// Motor off for `off_time` seconds after each brake, whatever the contact (the
+    /// thesis' experiment: 100 ms).
+    OffTime {
+        /// s, ≥ 0; 0 restarts the motor in the step after the brake.
+        off_time: f64,
+    },
+}
+
+impl std::fmt::Display for Release {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Release::Touchdown { rearm_timeout } => write!(
+                f,
+                "motor off from the brake until touchdown (rearm after {rearm_timeout} s in contact)"
+            ),
+            Release::OffTime { off_time } => {
+                write!(f, "motor off for {off_time} s after each brake")
+            }
+        }
+    }
 }
 
 /// When the cane is extended (physics.md §5.4).

@@ -5,7 +5,7 @@ mod config;
 mod momentum_impulse;
 mod pulse;
 
-pub use config::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig};
+pub use config::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig, Release};
 pub use momentum_impulse::MomentumImpulse;
 pub use pulse::Pulse;
 

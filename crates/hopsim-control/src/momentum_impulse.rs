@@ -1,6 +1,6 @@
 //! Robbit's momentum-stored-impulse control (physics.md §5.3).
 
-use crate::{ControlEvent, ControlInput, Controller, MomentumImpulseConfig};
+use crate::{ControlEvent, ControlInput, Controller, MomentumImpulseConfig, Release};
 use hopsim_model::Model;
 use hopsim_step::{Actuation, TorqueCommand};
 
@@ -8,7 +8,9 @@ use hopsim_step::{Actuation, TorqueCommand};
 enum Phase {
     /// Motor on: `+T` on the flywheel, `-T` on the disc.
     Stance,
-    /// Braked at `since`; torque zero until the disc touches the ground again.
+    /// Braked in the step that started at `since`; torque zero until the release
+    /// ([`Release`]) starts the next cycle. `airborne`: a step without contact load has
+    /// followed the brake.
     Released { since: f64, airborne: bool },
 }
 
@@ -51,9 +53,22 @@ impl Controller for MomentumImpulse {
     ) {
         let t = input.state.t;
         if let Phase::Released { since, airborne } = self.phase {
-            let touchdown = airborne && input.in_contact;
-            let stalled = input.in_contact && t - since >= self.config.rearm_timeout;
-            self.phase = if touchdown || stalled {
+            // Steps start on the grid `t_start + k Δt`: with half a step of slack a time
+            // `τ` after the brake is reached exactly `max(1, round(τ / Δt))` steps after
+            // it, whatever the round-off of the step times.
+            let reached = |duration: f64| t - since >= duration - 0.5 * input.dt;
+            let released = match self.config.release {
+                // The first step after a loaded step that followed a flight; or, when the
+                // brake did not lift the disc, `rearm_timeout` after it, in contact.
+                Release::Touchdown { rearm_timeout } => {
+                    let touchdown = airborne && input.in_contact;
+                    touchdown || (input.in_contact && reached(rearm_timeout))
+                }
+                // The motor is off in the brake's step and the steps that start less than
+                // `off_time` after it.
+                Release::OffTime { off_time } => reached(off_time),
+            };
+            self.phase = if released {
                 Phase::Stance
             } else {
                 Phase::Released {

@@ -470,6 +470,8 @@ pub(crate) struct StateIn {
     pub(crate) step: u64,
     pub(crate) q: BTreeMap<String, Number>,
     pub(crate) u: BTreeMap<String, Number>,
+    #[serde(rename = "actuator_torque_Nm")]
+    pub(crate) actuator_torque: Number,
 }
 
 /// The part of a `/hopsim/contacts` message the reader uses.

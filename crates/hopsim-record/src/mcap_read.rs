@@ -57,6 +57,8 @@ pub struct StateSample {
     pub q: Vec<f64>,
     /// Generalised velocities, same order.
     pub u: Vec<f64>,
+    /// Actuator torque commanded in the step that ended at `t`, N m (0 when idle).
+    pub actuator_torque: f64,
 }
 
 /// A hopsim MCAP recording, read back.
@@ -146,6 +148,7 @@ impl McapRecording {
                     t: state.t_s.0,
                     q: ordered(&state.q, names, "q")?,
                     u: ordered(&state.u, names, "u")?,
+                    actuator_torque: state.actuator_torque.0,
                 });
             }
             Some(Channel::Contacts) => {

@@ -3,8 +3,38 @@
 use crate::bodies::{Names, ShapeSpec};
 use crate::error::{number, SceneError};
 use crate::reader::{Num, Table, MAX_MAGNITUDE};
-use hopsim_control::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig};
+use hopsim_control::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig, Release};
 use hopsim_model::Body;
+
+/// Default of `controller.rearm_timeout`, s.
+const DEFAULT_REARM_TIMEOUT: f64 = 1.0;
+
+/// `controller.release` and the timing key of the chosen mode; the other mode's key is an
+/// error (it would be silently ignored).
+fn read_release(c: &Table<'_>) -> Result<Release, SceneError> {
+    let mode = c.choice("release", &["touchdown", "off_time"], Some("touchdown"))?;
+    // The timing key of the other mode, and that mode.
+    let (other_key, other_mode) = match mode {
+        "touchdown" => ("off_time", "off_time"),
+        _ => ("rearm_timeout", "touchdown"),
+    };
+    if c.get(other_key).is_some() {
+        return Err(c.error_at_key(
+            other_key,
+            format!(
+                "applies to release = \"{other_mode}\" only, and this controller has release = \"{mode}\""
+            ),
+        ));
+    }
+    Ok(match mode {
+        "touchdown" => Release::Touchdown {
+            rearm_timeout: c.f64_or("rearm_timeout", DEFAULT_REARM_TIMEOUT, Num::positive("s"))?,
+        },
+        _ => Release::OffTime {
+            off_time: c.f64("off_time", Num::non_negative("s"))?,
+        },
+    })
+}
 
 pub(crate) fn read_controller(
     c: &Table<'_>,
@@ -37,7 +67,7 @@ pub(crate) fn read_controller(
             flywheel: jointed("flywheel")?,
             torque: c.f64("torque", Num::any("N m"))?,
             impulse_limit: c.f64("impulse_limit", Num::positive("N m s"))?,
-            rearm_timeout: c.f64_or("rearm_timeout", 1.0, Num::positive("s"))?,
+            release: read_release(c)?,
             hold_brake: c.bool_or("hold_brake", false)?,
         }),
         _ => {

@@ -206,11 +206,19 @@ fn deeply_nested_values_are_refused_not_a_stack_overflow() {
 #[test]
 fn a_duplicate_made_by_an_override_names_the_override() {
     let e = robbit_error(&["bodies.disc.name=flywheel"]);
+    // The file's own `name = "flywheel"` line (1-based), value at column 8.
+    let text = std::fs::read_to_string(repo("scenes/robbit.toml")).unwrap();
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("name = \"flywheel\""))
+        .unwrap();
     assert!(
         e.starts_with(
             "--set bodies.disc.name=flywheel: bodies[0].name: a body named 'flywheel' already \
              exists at "
-        ) && e.ends_with("robbit.toml:29:8 (bodies[1].name); names must be unique"),
+        ) && e.ends_with(&format!(
+            "robbit.toml:{line}:8 (bodies[1].name); names must be unique"
+        )),
         "{e}"
     );
 }

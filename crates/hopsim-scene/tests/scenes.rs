@@ -1,6 +1,6 @@
 //! The bundled scenes load, and `--set` overrides are applied and checked like file values.
 
-use hopsim_control::ControllerConfig;
+use hopsim_control::{ControllerConfig, Release};
 use hopsim_scene::{Override, Scene};
 use std::path::{Path, PathBuf};
 
@@ -39,12 +39,94 @@ fn robbit_has_the_parameters_of_table_5_1() {
     let ControllerConfig::MomentumImpulse(c) = &s.controller else {
         panic!("{:?}", s.controller)
     };
-    assert_eq!((c.torque, c.impulse_limit), (0.16, 0.059));
+    assert_eq!(c.impulse_limit, 0.059);
     assert!(m.contacts.iter().all(|c| c.material.friction == 1.0));
     assert!(m
         .contacts
         .iter()
         .all(|c| c.material.restitution_normal == 0.0));
+}
+
+/// The thesis' control (physics.md §5.3): 0.16 N m read as the motor's torque, driving the
+/// flywheel through the gear of ratio 2.4.
+const MOTOR_TORQUE: f64 = 0.16;
+const GEAR_RATIO: f64 = 2.4;
+
+/// The default scene runs the thesis' simulation's cycle (motor off until touchdown), the
+/// experiment's scene the experiment's (motor off for 100 ms after each brake); both at the
+/// flywheel torque of the thesis' control and on the same robot.
+#[test]
+fn robbit_scenes_run_the_thesis_controls() {
+    let default = load("scenes/robbit.toml", &[]).unwrap();
+    let experiment = load("scenes/robbit-experiment.toml", &[]).unwrap();
+    let (a, b) = (&default.model, &experiment.model);
+    assert_eq!(a.bodies, b.bodies);
+    assert_eq!(a.shapes, b.shapes);
+    assert_eq!(default.initial, experiment.initial);
+    for (scene, release) in [
+        (&default, Release::Touchdown { rearm_timeout: 1.0 }),
+        (&experiment, Release::OffTime { off_time: 0.1 }),
+    ] {
+        let ControllerConfig::MomentumImpulse(c) = &scene.controller else {
+            panic!("{:?}", scene.controller)
+        };
+        assert!(
+            (c.torque - GEAR_RATIO * MOTOR_TORQUE).abs() < 1e-12,
+            "{}",
+            c.torque
+        );
+        assert_eq!(
+            (c.impulse_limit, c.release, c.hold_brake),
+            (0.059, release, false)
+        );
+    }
+}
+
+/// `release` picks the mode; each mode's timing key has its bounds; zero is allowed for
+/// the off time, not for the rearm timeout.
+#[test]
+fn release_modes_and_their_timing_keys() {
+    let release_of = |name: &str, overrides: &[&str]| -> Result<Release, String> {
+        match load(name, overrides)?.controller {
+            ControllerConfig::MomentumImpulse(c) => Ok(c.release),
+            other => panic!("{other:?}"),
+        }
+    };
+    let release = |overrides: &[&str]| release_of("scenes/robbit.toml", overrides);
+    let experiment = |overrides: &[&str]| release_of("scenes/robbit-experiment.toml", overrides);
+    assert_eq!(
+        release(&["controller.rearm_timeout=0.25"]),
+        Ok(Release::Touchdown {
+            rearm_timeout: 0.25
+        })
+    );
+    // The file's rearm_timeout belongs to the touchdown mode: switching modes needs it gone.
+    let e = release(&["controller.release=off_time", "controller.off_time=0"]).unwrap_err();
+    assert!(
+        e.contains("controller.rearm_timeout: applies to release = \"touchdown\" only"),
+        "{e}"
+    );
+    assert_eq!(
+        experiment(&["controller.off_time=0"]),
+        Ok(Release::OffTime { off_time: 0.0 })
+    );
+    let e = experiment(&["controller.off_time=-0.1"]).unwrap_err();
+    assert!(
+        e.contains("controller.off_time: expected a non-negative number in s"),
+        "{e}"
+    );
+    let e = experiment(&["controller.release=touchdown"]).unwrap_err();
+    assert!(
+        e.contains("controller.off_time: applies to release = \"off_time\" only"),
+        "{e}"
+    );
+    let e = release(&["controller.rearm_timeout=0"]).unwrap_err();
+    assert!(
+        e.contains("controller.rearm_timeout: expected a positive number in s"),
+        "{e}"
+    );
+    let e = release(&["controller.release=offtime"]).unwrap_err();
+    assert!(e.contains("did you mean 'off_time'"), "{e}");
 }
 
 #[test]

@@ -1,11 +1,14 @@
-//! Poincaré-section period detection for periodically driven gaits (physics.md §5.4).
+//! Poincaré-section period detection for gaits (physics.md §5.3, §5.4).
 //!
-//! The section is stroboscopic: the state at the start of every motor period `t = k P`.
+//! The section is stroboscopic for periodically driven gaits: the state at the start of
+//! every motor period `t = k P` ([`PoincareSection::new`]). Steps do not in general end on
+//! `k P`, so the section state is interpolated linearly between the two step ends that
+//! bracket it (within one step; an impact inside that step is smeared over it, which the
+//! tolerances below are far above). For a gait that times itself (Robbit's brake) the
+//! section is taken at events instead ([`PoincareSection::at_events`]): the caller adds a
+//! sample at each event with [`PoincareSection::sample`].
 //! The forward position `x` is left out (a gait repeats up to a translation); every other
-//! coordinate and every velocity is kept. Steps do not in general end on `k P`, so the
-//! section state is interpolated linearly between the two step ends that bracket it
-//! (within one step; an impact inside that step is smeared over it, which the tolerances
-//! below are far above).
+//! coordinate and every velocity is kept.
 //!
 //! A gait has period `p` when the section states `p` motor periods apart agree within a
 //! tolerance over the last `window` comparisons: with `z_k` the `k`-th section state,
@@ -107,11 +110,11 @@ impl std::fmt::Display for Periodicity {
     }
 }
 
-/// Collects the stroboscopic section `t = t0 + k P` of a run.
+/// Collects the Poincaré section of a run: stroboscopic (`t = t0 + k P`) or at events.
 #[derive(Clone, Debug)]
 pub struct PoincareSection {
-    period: f64,
-    t0: f64,
+    /// `(P, t0)` of a stroboscopic section; `None` for a section at events.
+    strobe: Option<(f64, f64)>,
     /// Number of coordinates in a section state (`q` without `x`); velocities follow.
     coordinates: usize,
     /// Index `k` of the next section time `t0 + k P`.
@@ -137,8 +140,16 @@ impl PoincareSection {
             "the period must be positive"
         );
         Self {
-            period,
-            t0,
+            strobe: Some((period, t0)),
+            ..Self::at_events()
+        }
+    }
+
+    /// A section whose samples the caller takes ([`PoincareSection::sample`]), e.g. at
+    /// every brake of Robbit; [`PoincareSection::push`] then only follows the excursions.
+    pub fn at_events() -> Self {
+        Self {
+            strobe: None,
             coordinates: 0,
             next: 0,
             previous: None,
@@ -160,8 +171,8 @@ impl PoincareSection {
     pub fn push(&mut self, t: f64, q: &[f64], u: &[f64]) {
         self.coordinates = q.len() - 1;
         let z = Self::section_state(q, u);
-        loop {
-            let ts = self.t0 + self.next as f64 * self.period;
+        while let Some((period, t0)) = self.strobe {
+            let ts = t0 + self.next as f64 * period;
             if t < ts {
                 break;
             }
@@ -172,18 +183,7 @@ impl PoincareSection {
                 }
                 _ => z.clone(),
             };
-            if !self.samples.is_empty() {
-                let (mut low, mut high) = (self.low.clone(), self.high.clone());
-                for ((l, h), v) in low.iter_mut().zip(high.iter_mut()).zip(&sample) {
-                    *l = l.min(*v);
-                    *h = h.max(*v);
-                }
-                self.spans.push((low, high));
-            }
-            self.low.clone_from(&sample);
-            self.high.clone_from(&sample);
-            self.samples.push(sample);
-            self.times.push(ts);
+            self.add(ts, sample);
             self.next += 1;
         }
         for ((l, h), v) in self.low.iter_mut().zip(self.high.iter_mut()).zip(&z) {
@@ -193,7 +193,30 @@ impl PoincareSection {
         self.previous = Some((t, z));
     }
 
-    /// The section states so far, one per motor period.
+    /// Takes the state `(q, u)` at time `t` as the next sample (a section at events; push
+    /// the same state too, so that the excursions include it).
+    pub fn sample(&mut self, t: f64, q: &[f64], u: &[f64]) {
+        self.coordinates = q.len() - 1;
+        self.add(t, Self::section_state(q, u));
+    }
+
+    /// Appends a sample; the excursions since the previous sample become its span.
+    fn add(&mut self, t: f64, sample: Vec<f64>) {
+        if !self.samples.is_empty() {
+            let (mut low, mut high) = (self.low.clone(), self.high.clone());
+            for ((l, h), v) in low.iter_mut().zip(high.iter_mut()).zip(&sample) {
+                *l = l.min(*v);
+                *h = h.max(*v);
+            }
+            self.spans.push((low, high));
+        }
+        self.low.clone_from(&sample);
+        self.high.clone_from(&sample);
+        self.samples.push(sample);
+        self.times.push(t);
+    }
+
+    /// The section states so far, one per motor period (or event).
     pub fn samples(&self) -> &[Vec<f64>] {
         &self.samples
     }
@@ -354,6 +377,29 @@ mod tests {
         let d = jittery.detect(&PeriodicityOptions::default());
         assert_eq!(d.period, Some(1), "{d}");
         assert!(d.residuals[0] > 0.1, "{d}");
+    }
+
+    /// A section at events: samples where the caller takes them, excursions from every
+    /// pushed state between them.
+    #[test]
+    fn a_section_at_events_finds_period_two() {
+        let mut s = PoincareSection::at_events();
+        for k in 0..20 {
+            let t = k as f64;
+            let z = if k % 2 == 0 { 1.0 } else { -1.0 };
+            s.sample(t, &[0.0, z], &[0.0, 0.0]);
+            // Between two events the state swings through ±2.
+            s.push(t, &[0.0, z], &[0.0, 0.0]);
+            s.push(t + 0.5, &[0.0, 2.0 * z], &[0.0, 0.0]);
+        }
+        assert_eq!(s.times()[3], 3.0);
+        let d = s.detect(&PeriodicityOptions::default());
+        assert_eq!(d.period, Some(2), "{d}");
+        // Samples 2 apart in z by 2 against an excursion of 4 (tolerance 2 % of it + 1e-6).
+        assert!(
+            (d.residuals[0] - 2.0 / (0.02 * 4.0 + 1e-6)).abs() < 1e-9,
+            "{d}"
+        );
     }
 
     #[test]

@@ -20,9 +20,22 @@ pub enum StudyError {
     /// Writing an output file failed.
     #[error("cannot write {0}")]
     Io(#[from] hopsim_io::IoError),
+    /// A recording could not be read (missing, corrupt, not a hopsim recording); its
+    /// message names the file and the cause.
+    #[error("{0}")]
+    Record(hopsim_record::RecordError),
+    /// The input does not allow the study (e.g. a run without two cycles to compare).
+    #[error("{0}")]
+    Input(String),
     /// Drawing a figure failed (e.g. no usable font on the machine).
     #[error("cannot draw {}: {message}", path.display())]
     Plot { path: PathBuf, message: String },
+}
+
+impl From<hopsim_record::RecordError> for StudyError {
+    fn from(e: hopsim_record::RecordError) -> Self {
+        StudyError::Record(e)
+    }
 }
 
 impl StudyError {
@@ -33,6 +46,8 @@ impl StudyError {
             self,
             StudyError::Analysis(hopsim_analysis::AnalysisError::InvalidParameter { .. })
                 | StudyError::Scene(_)
+                | StudyError::Record(_)
+                | StudyError::Input(_)
         )
     }
 }

@@ -7,6 +7,8 @@
 //! * [`plot`]: line plots, heatmaps and category maps as PNG + SVG.
 //! * [`robbit_gait`]: Robbit in the time-stepper, the cross-check of a predicted gait;
 //!   [`fixed_points`]: Robbit's periodic gaits and their stability over a grid.
+//! * [`gait`]: a run or a recording cycle by cycle: periods, fractions, periodicity and
+//!   the overlay of the last cycles (Fig. 5.11).
 //! * [`run_summary`]: a scene's run and its summary with the controller's sections;
 //!   [`sweep`]: a scene over a grid of parameters, with its CSV and figure.
 //! * [`template`], [`obstacle`], [`impulsive_wheel`]: the reduced models of physics.md
@@ -15,6 +17,7 @@
 
 pub mod error;
 pub mod fixed_points;
+pub mod gait;
 pub mod impulsive_wheel;
 pub mod obstacle;
 pub mod plot;

@@ -261,6 +261,7 @@ fn chart<'a, DB: DrawingBackend>(
     ChartBuilder::on(area)
         .caption(title, (FONT, 24))
         .margin(12)
+        .margin_right(28)
         .x_label_area_size(48)
         .y_label_area_size(72)
         .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
@@ -565,6 +566,51 @@ impl Figure for LinePlot {
         }
         if self.series.iter().any(|s| s.label.is_some()) {
             draw_legend(&mut chart, &labels(&series), &series)?;
+        }
+        Ok(())
+    }
+}
+
+/// Line plots stacked vertically under one title (e.g. `x`, `y` and `φ` of a gait over one
+/// cycle); each panel keeps its own axes, labels and legend.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlotStack {
+    /// Caption above all panels.
+    pub title: String,
+    /// The panels, top to bottom.
+    pub panels: Vec<LinePlot>,
+    /// Size in pixels.
+    pub size: (u32, u32),
+}
+
+impl PlotStack {
+    /// Panels of `DEFAULT_SIZE.1 / 2` pixels each (at least the default height).
+    pub fn new(title: impl Into<String>, panels: Vec<LinePlot>) -> Self {
+        let height = (panels.len() as u32 * DEFAULT_SIZE.1 / 2).max(DEFAULT_SIZE.1);
+        PlotStack {
+            title: title.into(),
+            panels,
+            size: (DEFAULT_SIZE.0, height),
+        }
+    }
+}
+
+impl Figure for PlotStack {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+        if self.panels.is_empty() {
+            return Err("a plot stack needs at least one panel".into());
+        }
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let body = root
+            .titled(&self.title, (FONT, 22))
+            .map_err(|e| e.to_string())?;
+        let areas = body.split_evenly((self.panels.len(), 1));
+        for (panel, area) in self.panels.iter().zip(&areas) {
+            panel.draw(area)?;
         }
         Ok(())
     }

@@ -3,7 +3,9 @@
 //! them. Front ends (the command line, Python) only choose which of these to show.
 
 use crate::error::Result;
-use crate::plot::{commit_all, stage_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot};
+use crate::plot::{
+    commit_all, stage_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot, PlotStack,
+};
 use hopsim_io::CsvTable;
 use hopsim_io::{AtomicPath, IoError};
 use serde::Serialize;
@@ -26,6 +28,7 @@ pub enum AnyFigure {
     Line(LinePlot),
     Heatmap(Heatmap),
     Categories(CategoryMap),
+    Stack(PlotStack),
 }
 
 impl From<LinePlot> for AnyFigure {
@@ -46,12 +49,19 @@ impl From<CategoryMap> for AnyFigure {
     }
 }
 
+impl From<PlotStack> for AnyFigure {
+    fn from(f: PlotStack) -> Self {
+        AnyFigure::Stack(f)
+    }
+}
+
 impl Figure for AnyFigure {
     fn size(&self) -> (u32, u32) {
         match self {
             AnyFigure::Line(f) => f.size(),
             AnyFigure::Heatmap(f) => f.size(),
             AnyFigure::Categories(f) => f.size(),
+            AnyFigure::Stack(f) => f.size(),
         }
     }
 
@@ -63,6 +73,7 @@ impl Figure for AnyFigure {
             AnyFigure::Line(f) => f.draw(root),
             AnyFigure::Heatmap(f) => f.draw(root),
             AnyFigure::Categories(f) => f.draw(root),
+            AnyFigure::Stack(f) => f.draw(root),
         }
     }
 }

@@ -124,7 +124,8 @@ fn toml_array(values: &[f64]) -> String {
 }
 
 /// `scenes/robbit.toml` with Robbit's parameters `p` (disc `R`, `a`, `m_S`, `I_S`;
-/// flywheel `m_R`, `I_R`; `μ`, `g`), the controller's `β`, rearm timeout and `hold_brake`
+/// flywheel `m_R`, `I_R`; `μ`, `g`), the controller's `β`, its touchdown release with the
+/// rearm timeout (the reduced model's cycle: motor off until touchdown), `hold_brake`
 /// (held when `p.touchdown` is [`FlywheelAtTouchdown::Locked`], module docs), `Δt`, the
 /// duration, strict LCP solves (a run stops on the first uncertified contact LCP), and the
 /// state `initial`.
@@ -153,6 +154,7 @@ pub fn robbit_scene(
         number("shapes.disc.radius", p.radius),
         number("controller.torque", control.torque),
         number("controller.impulse_limit", control.impulse_limit),
+        ("controller.release".into(), "touchdown".into()),
         number("controller.rearm_timeout", settings.rearm_timeout),
         (
             "controller.hold_brake".into(),
@@ -422,7 +424,7 @@ pub fn convergence_to_prediction(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hopsim_control::{ControllerConfig, MomentumImpulseConfig};
+    use hopsim_control::{ControllerConfig, MomentumImpulseConfig, Release};
     use hopsim_model::{ContactMaterial, Shape, Vec2};
 
     /// Every parameter, the control, the settings and the start reach the scene exactly.
@@ -477,7 +479,7 @@ mod tests {
                 flywheel: 1,
                 torque: 0.21,
                 impulse_limit: 0.047,
-                rearm_timeout: 0.5,
+                release: Release::Touchdown { rearm_timeout: 0.5 },
                 hold_brake: false,
             })
         );

@@ -1,6 +1,6 @@
 //! `hopsim analyze …`: closed-form maps and reduced models of physics.md §5
 //! (`docs/analysis.md`), computed by the studies of `hopsim-studies` over the theory of
-//! `hopsim-analysis`.
+//! `hopsim-analysis`, and the gait of a simulated or recorded run.
 //!
 //! Every subcommand prints a readable table by default, one JSON object with `--json`, and
 //! writes CSV files and PNG/SVG plots into `--out DIR` (created if missing, files written
@@ -16,6 +16,7 @@
 
 pub mod common;
 pub mod fixed_points;
+pub mod gait;
 pub mod impulsive_wheel;
 pub mod obstacle;
 pub mod template;
@@ -44,6 +45,10 @@ pub enum AnalyzeCommand {
     /// Robbit's fixed-point controls β* = (T*, ζ0*) and their stability over a grid of
     /// take-off angle × take-off energy (§5.3).
     FixedPoints(fixed_points::FixedPointsArgs),
+    /// A run (scene or MCAP recording) cycle by cycle: periods, distances, flight, stance
+    /// and spin-up fractions, apex heights, periodicity, and the last cycles overlaid
+    /// against cycle progress (Fig. 5.11).
+    Gait(gait::GaitArgs),
 }
 
 pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
@@ -52,6 +57,7 @@ pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
         AnalyzeCommand::Obstacle(args) => obstacle::run(args),
         AnalyzeCommand::ImpulsiveWheel(args) => impulsive_wheel::run(args),
         AnalyzeCommand::FixedPoints(args) => fixed_points::run(args),
+        AnalyzeCommand::Gait(args) => gait::run(args),
     };
     common::exit_code(result)
 }
