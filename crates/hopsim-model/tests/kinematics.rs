@@ -12,11 +12,9 @@ use proptest::prelude::*;
 /// joint, with offset pivots and centres of mass, joint damping and a damped spring.
 fn tree(offsets: [f64; 6], damping: f64) -> Model {
     let joint = |parent, pivot: Vec2, com: Vec2, coordinate| Joint {
-        parent,
-        pivot_in_parent: pivot,
-        com_in_child: com,
         coordinate,
         damping,
+        ..Joint::revolute(Some(parent), pivot, com)
     };
     let [a, b, c, d, e, f] = offsets;
     let bodies = vec![
@@ -205,7 +203,7 @@ proptest! {
         model.damping_forces(&kinematics, &mut d);
         let joints: f64 = (1..3)
             .map(|b| {
-                let p = model.bodies[b].joint.as_ref().unwrap().parent;
+                let p = model.bodies[b].joint.as_ref().unwrap().parent.unwrap();
                 (kinematics.angular_velocity[b] - kinematics.angular_velocity[p]).powi(2)
             })
             .sum();
