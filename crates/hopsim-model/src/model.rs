@@ -4,7 +4,8 @@
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
 use crate::{
-    Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2,
+    Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance,
+    Spring, Terrain, Vec2,
 };
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
 
@@ -187,7 +188,13 @@ impl Model {
     /// `b` and its reaction on the parent (prismatic, N), i.e. `value ∂s/∂q` with `s` the
     /// joint position (physics.md §7). Nothing for a floating or fixed body.
     #[inline]
-    pub fn add_joint_force_to(&self, kinematics: &Kinematics, b: usize, value: f64, out: &mut [f64]) {
+    pub fn add_joint_force_to(
+        &self,
+        kinematics: &Kinematics,
+        b: usize,
+        value: f64,
+        out: &mut [f64],
+    ) {
         let Some(joint) = self.bodies[b].joint.as_ref() else {
             return;
         };
@@ -304,7 +311,10 @@ impl Model {
                 };
                 self.add_joint_force_to(kinematics, b, -joint.damping * rate, h);
             }
-            if let Some(h) = conservative.as_deref_mut().filter(|_| joint.stiffness != 0.0) {
+            if let Some(h) = conservative
+                .as_deref_mut()
+                .filter(|_| joint.stiffness != 0.0)
+            {
                 let stretch = kinematics.joint_position(b) - joint.rest_position;
                 self.add_joint_force_to(kinematics, b, -joint.stiffness * stretch, h);
             }

@@ -291,74 +291,67 @@ pub(crate) fn read_bodies(
                 t.f64("inertia", Num::positive("kg m²").at_least(1e-12))?,
             )
         };
-        let joint = match (b, parent, base) {
-            (_, Some(_), Some(_)) => {
-                return Err(t.error_at_key(
-                    "base",
-                    "a body with a parent hangs on a joint; 'base' belongs to a tree's root \
+        let joint =
+            match (b, parent, base) {
+                (_, Some(_), Some(_)) => {
+                    return Err(t.error_at_key(
+                        "base",
+                        "a body with a parent hangs on a joint; 'base' belongs to a tree's root \
                      (a body without a parent)",
-                ))
-            }
-            (0, Some(_), None) => {
-                return Err(t.error_at_key(
+                    ))
+                }
+                (0, Some(_), None) => return Err(t.error_at_key(
                     "parent",
                     "the first body is the floating base (x, y, phi) and cannot have a parent; \
                      parents come before their children",
-                ))
-            }
-            (0, None, None) | (_, None, Some("floating")) => {
-                coordinates.floating(t, b, name)?;
-                None
-            }
-            (_, None, None) => {
-                return Err(t.error_at_key(
-                    "parent",
-                    format!(
+                )),
+                (0, None, None) | (_, None, Some("floating")) => {
+                    coordinates.floating(t, b, name)?;
+                    None
+                }
+                (_, None, None) => {
+                    return Err(t.error_at_key(
+                        "parent",
+                        format!(
                         "missing; every body after the first hangs on a joint on a parent body \
                          (one of: {}) or starts a tree of its own with base = \"floating\", \
                          \"pinned\" or \"fixed\"",
                         short_list((0..b).map(|i| names.get(i)), LISTED)
                     ),
-                ))
-            }
-            (_, None, Some("fixed")) => {
-                if t.get("coordinate_name").is_some() {
-                    return Err(t.error_at_key(
-                        "coordinate_name",
-                        "a fixed body has no coordinate to name",
-                    ));
+                    ))
                 }
-                Some(Joint {
-                    kind: JointKind::Fixed {
-                        angle: t.f64_or("angle", 0.0, Num::any("rad").coordinate())?,
-                    },
-                    ..Joint::revolute(
-                        None,
-                        vec2(t.vec2("position", Some([0.0; 2]), "m")?),
-                        Vec2::zeros(),
-                    )
-                })
-            }
-            (_, None, Some(_)) => {
-                // Pinned: a revolute joint to the world point `pivot`.
-                let pivot = vec2(t.vec2("pivot", Some([0.0; 2]), "m")?);
-                Some(read_joint(t, name, None, pivot, &mut coordinates)?)
-            }
-            (_, Some(p), None) => {
-                let parent = match names.find(p) {
-                    Some(i) if i < b => i,
-                    _ => return Err(parent_error(tables, b, p, names, &all, &parents)),
-                };
-                let pivot = vec2(t.vec2("pivot", Some([0.0; 2]), "m")?);
-                Some(read_joint(
-                    t,
-                    name,
-                    Some(parent),
-                    pivot,
-                    &mut coordinates,
-                )?)
-            }
-        };
+                (_, None, Some("fixed")) => {
+                    if t.get("coordinate_name").is_some() {
+                        return Err(t.error_at_key(
+                            "coordinate_name",
+                            "a fixed body has no coordinate to name",
+                        ));
+                    }
+                    Some(Joint {
+                        kind: JointKind::Fixed {
+                            angle: t.f64_or("angle", 0.0, Num::any("rad").coordinate())?,
+                        },
+                        ..Joint::revolute(
+                            None,
+                            vec2(t.vec2("position", Some([0.0; 2]), "m")?),
+                            Vec2::zeros(),
+                        )
+                    })
+                }
+                (_, None, Some(_)) => {
+                    // Pinned: a revolute joint to the world point `pivot`.
+                    let pivot = vec2(t.vec2("pivot", Some([0.0; 2]), "m")?);
+                    Some(read_joint(t, name, None, pivot, &mut coordinates)?)
+                }
+                (_, Some(p), None) => {
+                    let parent = match names.find(p) {
+                        Some(i) if i < b => i,
+                        _ => return Err(parent_error(tables, b, p, names, &all, &parents)),
+                    };
+                    let pivot = vec2(t.vec2("pivot", Some([0.0; 2]), "m")?);
+                    Some(read_joint(t, name, Some(parent), pivot, &mut coordinates)?)
+                }
+            };
         t.finish()?;
         bodies.push(Body {
             name: name.to_string(),
@@ -395,7 +388,9 @@ impl Coordinates {
                 if b == 0 {
                     "the floating base's coordinates are always x, y, phi".to_string()
                 } else {
-                    format!("a floating base's coordinates are always x_{body}, y_{body}, phi_{body}")
+                    format!(
+                        "a floating base's coordinates are always x_{body}, y_{body}, phi_{body}"
+                    )
                 },
             ));
         }
@@ -437,7 +432,7 @@ fn read_joint(
         })?;
         let axis = vec2(axis);
         let length = axis.norm();
-        if !(length > 1e-9) {
+        if length <= 1e-9 {
             return Err(t.error_at_key(
                 "axis",
                 "expected a non-zero direction [x, y] (it is scaled to unit length)",
@@ -454,7 +449,11 @@ fn read_joint(
         if t.get("axis").is_some() {
             return Err(t.error_at_key("axis", "only a prismatic joint has an axis"));
         }
-        (JointKind::Revolute, ("rad", "N m s/rad", "N m/rad"), "theta")
+        (
+            JointKind::Revolute,
+            ("rad", "N m s/rad", "N m/rad"),
+            "theta",
+        )
     };
     let (position_unit, damping_unit, stiffness_unit) = unit;
     let coordinate = if prismatic || parent.is_none() {

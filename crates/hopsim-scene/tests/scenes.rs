@@ -91,7 +91,16 @@ q = [0.0, 1.0, 0.0, 0.4, 0.2, 3.0, 1.0, 0.0]
     let scene = hopsim_scene::parse(text, Path::new("trees.toml"), &[]).unwrap();
     assert_eq!(
         scene.coordinates,
-        ["x", "y", "phi", "s_leg", "theta_arm", "x_puck", "y_puck", "phi_puck"]
+        [
+            "x",
+            "y",
+            "phi",
+            "s_leg",
+            "theta_arm",
+            "x_puck",
+            "y_puck",
+            "phi_puck"
+        ]
     );
     let model = &scene.model;
     assert_eq!(model.dof(), 8);
@@ -102,7 +111,10 @@ q = [0.0, 1.0, 0.0, 0.4, 0.2, 3.0, 1.0, 0.0]
             axis: Vec2::new(0.0, -1.0)
         }
     );
-    assert_eq!((leg.stiffness, leg.rest_position, leg.damping), (800.0, 0.4, 2.0));
+    assert_eq!(
+        (leg.stiffness, leg.rest_position, leg.damping),
+        (800.0, 0.4, 2.0)
+    );
     assert_eq!(
         leg.limits,
         Some(JointLimits {
@@ -113,7 +125,10 @@ q = [0.0, 1.0, 0.0, 0.4, 0.2, 3.0, 1.0, 0.0]
     );
     assert!(model.bodies[2].is_fixed() && model.bodies[2].mass == 0.0);
     let arm = model.bodies[3].joint.as_ref().unwrap();
-    assert_eq!((arm.parent, arm.pivot_in_parent), (None, Vec2::new(1.0, 1.0)));
+    assert_eq!(
+        (arm.parent, arm.pivot_in_parent),
+        (None, Vec2::new(1.0, 1.0))
+    );
     assert_eq!(model.bodies[4].joint, None);
     // The wall's box has no terrain contacts (it is fixed); the limits are two stops.
     assert!(model.contacts.is_empty());

@@ -102,10 +102,24 @@ fn pendulum_rebounds_from_its_joint_stop_as_the_closed_form_says() {
         assert!(hits.len() >= 5, "{} stop hits", hits.len());
         let first = &samples[hits[0]];
         let omega_after = eps * rebound(0.0).sqrt();
-        check("ω⁺ (rad/s)", first.u[0], omega_after, 1e-3, dt, &mut failures);
+        check(
+            "ω⁺ (rad/s)",
+            first.u[0],
+            omega_after,
+            1e-3,
+            dt,
+            &mut failures,
+        );
         // Impact times: the impact step ends at most Δt after the impact.
         let to_first = elliptic_k((0.5 * theta0).sin()) / omega2.sqrt();
-        check("first impact (s)", first.t, to_first, 1.5, dt, &mut failures);
+        check(
+            "first impact (s)",
+            first.t,
+            to_first,
+            1.5,
+            dt,
+            &mut failures,
+        );
         let peaks: Vec<f64> = (1..=4)
             .map(|n| (1.0 - eps.powi(2 * n) * (1.0 - theta0.cos())).acos())
             .collect();
@@ -129,7 +143,14 @@ fn pendulum_rebounds_from_its_joint_stop_as_the_closed_form_says() {
         // The stop's work at the first impact: −(1 − ε²) of E₀ = m g d (1 − cos θ₀).
         let lost = samples[hits[0] - 1].limit_work - first.limit_work;
         let e0 = m * g * d * (1.0 - theta0.cos());
-        check("impact 1 loss / E₀", lost / e0, 1.0 - eps * eps, 1e-3, dt, &mut failures);
+        check(
+            "impact 1 loss / E₀",
+            lost / e0,
+            1.0 - eps * eps,
+            1e-3,
+            dt,
+            &mut failures,
+        );
         // A stop at −30°: the impact step starts up to Δt before the impact, where gravity
         // still accelerates the rod (|θ̈| = Ω² sin 30°), and its midpoint is up to
         // |ω| Δt/2 past the stop, which shifts θ₁ by up to (1 − ε²) sin 30° |ω| Δt / sin θ₁
@@ -146,13 +167,27 @@ fn pendulum_rebounds_from_its_joint_stop_as_the_closed_form_says() {
         let hits = starts(&samples, |s| s.limit_impulse > 0.0);
         let first = &samples[hits[0]];
         let omega_after = eps * rebound(stop).sqrt();
-        check("offset stop ω⁺ (rad/s)", first.u[0], omega_after, 3.0, dt, &mut failures);
+        check(
+            "offset stop ω⁺ (rad/s)",
+            first.u[0],
+            omega_after,
+            3.0,
+            dt,
+            &mut failures,
+        );
         let end = hits.get(1).copied().unwrap_or(samples.len());
         let peak = samples[hits[0]..end]
             .iter()
             .map(|s| s.q[0])
             .fold(f64::NEG_INFINITY, f64::max);
-        check("offset stop θ₁ (rad)", peak, peak_after(stop), 2.5, dt, &mut failures);
+        check(
+            "offset stop θ₁ (rad)",
+            peak,
+            peak_after(stop),
+            2.5,
+            dt,
+            &mut failures,
+        );
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -43,17 +43,28 @@ impl Observer for Both<'_> {
     }
 }
 
-#[test]
-fn mcap_of_a_run_matches_the_simulation_records() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/robbit.toml");
-    let scene = hopsim_scene::load(&path, &[Override::new("simulation.duration", "2.0")]).unwrap();
+/// The bundled scene `name` run for `duration` seconds, and an observer recording it to
+/// `run.mcap` in a new temporary folder.
+fn mcap_run(
+    name: &str,
+    duration: &str,
+) -> (hopsim_scene::Scene, tempfile::TempDir, RecordingObserver) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}"));
+    let scene =
+        hopsim_scene::load(&path, &[Override::new("simulation.duration", duration)]).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("run.mcap");
     let mut set = RecorderSet::default();
     set.push(Box::new(
-        McapRecorder::create(&file, &recording_info(&scene)).unwrap(),
+        McapRecorder::create(&dir.path().join("run.mcap"), &recording_info(&scene)).unwrap(),
     ));
-    let mut recorder = RecordingObserver::new(set, &scene);
+    let recorder = RecordingObserver::new(set, &scene);
+    (scene, dir, recorder)
+}
+
+#[test]
+fn mcap_of_a_run_matches_the_simulation_records() {
+    let (scene, dir, mut recorder) = mcap_run("robbit.toml", "2.0");
+    let file = dir.path().join("run.mcap");
     let mut truth = Truth::default();
     hopsim_sim::run(
         &scene,
@@ -120,15 +131,8 @@ fn mcap_of_a_run_matches_the_simulation_records() {
 /// the first is `I_O (1 + ε) |ω⁻|` (ε = 0.5, `ω⁻` from energy: 2.7124712 N m s).
 #[test]
 fn mcap_records_every_joint_stop_hit_with_its_impulse() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/classic/pendulum-stop.toml");
-    let scene = hopsim_scene::load(&path, &[Override::new("simulation.duration", "2.5")]).unwrap();
-    let dir = tempfile::tempdir().unwrap();
+    let (scene, dir, mut recorder) = mcap_run("classic/pendulum-stop.toml", "2.5");
     let file = dir.path().join("run.mcap");
-    let mut set = RecorderSet::default();
-    set.push(Box::new(
-        McapRecorder::create(&file, &recording_info(&scene)).unwrap(),
-    ));
-    let mut recorder = RecordingObserver::new(set, &scene);
     /// Steps where the stop's percussion rises from nothing, with that percussion.
     #[derive(Default)]
     struct Hits {

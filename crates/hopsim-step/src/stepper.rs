@@ -667,13 +667,14 @@ impl Stepper {
             }
         }
         // The stops' right-hand sides follow the contacts' normal ones.
-        self.lcp_b
-            .as_mut_slice()
-            .copy_within(3 * k..3 * k + l, k);
+        self.lcp_b.as_mut_slice().copy_within(3 * k..3 * k + l, k);
         let size = k + l;
         let solution = self
             .lcp
-            .solve(self.lcp_a.view((0, 0), (size, size)), self.lcp_b.rows(0, size))
+            .solve(
+                self.lcp_a.view((0, 0), (size, size)),
+                self.lcp_b.rows(0, size),
+            )
             .map_err(|_| StepError::NonFinite {
                 step,
                 t,

@@ -234,5 +234,8 @@ fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
         stops |= rec.limits.iter().any(|l| l.impulse > 1e-6);
     });
     assert_eq!(count, 0);
-    assert!(contacts && stops, "contacts {contacts}, stop impacts {stops}");
+    assert!(
+        contacts && stops,
+        "contacts {contacts}, stop impacts {stops}"
+    );
 }
