@@ -56,7 +56,7 @@ impl Controller for Pulse {
         let joint = input.model.bodies[self.config.joint_body].joint.as_ref();
         actuation.torques.push(TorqueCommand {
             body: self.config.joint_body,
-            reaction: joint.map(|j| j.parent),
+            reaction: joint.and_then(|j| j.parent),
             torque: self.torque_at(t),
         });
         if let Some(cane) = self.config.cane_shape {

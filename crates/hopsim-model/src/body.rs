@@ -1,8 +1,9 @@
-//! Rigid bodies and the revolute joints that attach children to their parents.
+//! Rigid bodies and the joints that attach them to a parent body or to the world
+//! (physics.md §1, §7).
 
 use crate::Vec2;
 
-/// How a child body's generalised coordinate measures its rotation.
+/// How a revolute joint's generalised coordinate measures its rotation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum JointCoordinate {
     /// The coordinate is the body's absolute angle (Robbit's flywheel angle `ψ`, §5.3).
@@ -11,19 +12,80 @@ pub enum JointCoordinate {
     Relative,
 }
 
-/// A revolute joint attaching a child body to its parent.
+/// What a joint lets the child do relative to its parent (physics.md §7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum JointKind {
+    /// Rotation about the pivot; one coordinate, an angle (rad).
+    Revolute,
+    /// Translation along `axis` (a unit vector fixed in the parent's frame), no relative
+    /// rotation; one coordinate, the extension `s` (m): the pivot moves to
+    /// `pivot_in_parent + s axis` in the parent's frame.
+    Prismatic { axis: Vec2 },
+    /// Welded to the world at angle `angle` (rad): no coordinate. Only a tree's root may be
+    /// fixed (its parent is the world); the pivot is then its centre of mass in the world.
+    Fixed { angle: f64 },
+}
+
+/// End stops `lower ≤ s ≤ upper` of a joint's position (rad or m), with their own
+/// restitution: two unilateral frictionless rows of the contact LCP (physics.md §7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointLimits {
+    /// Lower stop (may be `-∞`: none).
+    pub lower: f64,
+    /// Upper stop (may be `+∞`: none).
+    pub upper: f64,
+    /// Newton restitution `ε` of both stops, in [0, 1].
+    pub restitution: f64,
+}
+
+/// A joint attaching a child body to its parent body, or to the world.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
-    /// Index of the parent body (smaller than the child's index).
-    pub parent: usize,
-    /// The pivot in the parent's body frame, relative to the parent's centre of mass, m.
+    /// Index of the parent body (smaller than the child's index); `None`: the world (a
+    /// pinned or fixed base, physics.md §7).
+    pub parent: Option<usize>,
+    /// The pivot in the parent's body frame, relative to the parent's centre of mass (for
+    /// the world: the pivot's world position), m.
     pub pivot_in_parent: Vec2,
     /// The child's centre of mass relative to the pivot, in the child's frame, m.
     pub com_in_child: Vec2,
-    /// What the child's generalised coordinate measures.
+    /// What a revolute joint's coordinate measures (prismatic and fixed joints: `Relative`).
     pub coordinate: JointCoordinate,
-    /// Viscous damping in the joint, N m s/rad (torque `-c (θ̇_child - θ̇_parent)`).
+    /// Revolute, prismatic or fixed.
+    pub kind: JointKind,
+    /// Viscous damping in the joint: N m s/rad (torque `-c (θ̇_child - θ̇_parent)`) or, for a
+    /// prismatic joint, N s/m (force `-c ṡ` along the axis).
     pub damping: f64,
+    /// Joint spring: N m/rad or N/m, generalised force `-k (s - rest_position)` on the
+    /// joint position `s` (the relative angle, or the extension).
+    pub stiffness: f64,
+    /// The joint spring's rest position, rad or m.
+    pub rest_position: f64,
+    /// End stops of the joint position, if any.
+    pub limits: Option<JointLimits>,
+}
+
+impl Joint {
+    /// A revolute joint on `parent` with a relative coordinate, no damping, spring or
+    /// limits.
+    pub fn revolute(parent: Option<usize>, pivot_in_parent: Vec2, com_in_child: Vec2) -> Self {
+        Self {
+            parent,
+            pivot_in_parent,
+            com_in_child,
+            coordinate: JointCoordinate::Relative,
+            kind: JointKind::Revolute,
+            damping: 0.0,
+            stiffness: 0.0,
+            rest_position: 0.0,
+            limits: None,
+        }
+    }
+
+    /// Whether the joint adds a generalised coordinate (every kind but `Fixed`).
+    pub fn has_coordinate(&self) -> bool {
+        !matches!(self.kind, JointKind::Fixed { .. })
+    }
 }
 
 /// A rigid body: mass, inertia about its centre of mass, and how it is attached.
@@ -31,16 +93,16 @@ pub struct Joint {
 pub struct Body {
     /// Name used in scenes, records and viewers.
     pub name: String,
-    /// Mass, kg (> 0).
+    /// Mass, kg (> 0; ≥ 0 for a fixed base).
     pub mass: f64,
-    /// Moment of inertia about the centre of mass, kg m² (> 0).
+    /// Moment of inertia about the centre of mass, kg m² (> 0; ≥ 0 for a fixed base).
     pub inertia: f64,
-    /// `None` for the floating base (body 0), the joint for every other body.
+    /// `None` for a floating base `(x, y, φ)`, the joint for every other body.
     pub joint: Option<Joint>,
 }
 
 impl Body {
-    /// The floating base (body 0): a body without a joint.
+    /// A floating base: a body without a joint.
     pub fn base(name: impl Into<String>, mass: f64, inertia: f64) -> Self {
         Self {
             name: name.into(),
@@ -59,12 +121,26 @@ impl Body {
             mass,
             inertia,
             joint: Some(Joint {
-                parent,
-                pivot_in_parent: Vec2::zeros(),
-                com_in_child: Vec2::zeros(),
                 coordinate: JointCoordinate::Absolute,
-                damping: 0.0,
+                ..Joint::revolute(Some(parent), Vec2::zeros(), Vec2::zeros())
             }),
+        }
+    }
+
+    /// Whether the body is fixed to the world (a fixed base).
+    pub fn is_fixed(&self) -> bool {
+        self.joint
+            .as_ref()
+            .is_some_and(|j| matches!(j.kind, JointKind::Fixed { .. }))
+    }
+
+    /// Number of generalised coordinates the body adds: 3 for a floating base, 0 when
+    /// fixed, else 1.
+    pub fn coordinate_count(&self) -> usize {
+        match &self.joint {
+            None => 3,
+            Some(j) if j.has_coordinate() => 1,
+            Some(_) => 0,
         }
     }
 }

@@ -4,7 +4,7 @@
 //! One pass over the bodies (parents before children) computes everything; each body's
 //! rotation `(sin θ, cos θ)` is evaluated once and only for bodies whose geometry needs it.
 
-use crate::{perp, JointCoordinate, Model, Vec2};
+use crate::{perp, JointCoordinate, JointKind, Model, Vec2};
 use nalgebra::{DVector, DVectorViewMut};
 
 /// A planar rotation by `θ`, kept as `(sin θ, cos θ)` so one `sin_cos` serves every use.
@@ -69,6 +69,11 @@ pub struct Kinematics {
     pattern_start: Vec<usize>,
     /// `J̇_b u` of each body's centre of mass (centripetal terms), m/s².
     bias: Vec<Vec2>,
+    /// Joint position and velocity of each body (see [`Kinematics::joint_position`]).
+    joint_position: Vec<f64>,
+    joint_rate: Vec<f64>,
+    /// Three zero rows of length `n`: the world's Jacobian.
+    zero_rows: Vec<f64>,
 }
 
 impl Kinematics {
@@ -86,7 +91,11 @@ impl Kinematics {
         for (b, body) in model.bodies.iter().enumerate() {
             if let Some(j) = &body.joint {
                 needs_rotation[b] |= j.com_in_child != Vec2::zeros();
-                needs_rotation[j.parent] |= j.pivot_in_parent != Vec2::zeros();
+                let prismatic = matches!(j.kind, JointKind::Prismatic { .. });
+                if let Some(p) = j.parent {
+                    // A prismatic axis turns with the parent.
+                    needs_rotation[p] |= j.pivot_in_parent != Vec2::zeros() || prismatic;
+                }
             }
         }
         let (pattern, pattern_start) = jacobian_pattern(model);
@@ -106,6 +115,9 @@ impl Kinematics {
             pattern,
             pattern_start,
             bias: vec![Vec2::zeros(); nb],
+            joint_position: vec![0.0; nb],
+            joint_rate: vec![0.0; nb],
+            zero_rows: vec![0.0; 3 * model.dof()],
         }
     }
 
@@ -123,68 +135,164 @@ impl Kinematics {
         let n = self.dof;
         assert!(q.len() == n && u.len() == n, "q and u need {n} entries");
         // Entries outside the sparsity pattern are never written: they stay zero.
-        self.position[0] = Vec2::new(q[0], q[1]);
-        self.angle[0] = q[2];
-        if self.needs_rotation[0] {
-            self.rotation[0] = Rotation::new(q[2]);
-        }
-        self.velocity[0] = Vec2::new(u[0], u[1]);
-        self.angular_velocity[0] = u[2];
-        self.bias[0] = Vec2::zeros();
-        for k in 0..3 {
-            self.jacobian[k * n + k] = 1.0;
-        }
-        for (b, body) in model.bodies.iter().enumerate().skip(1) {
+        for (b, body) in model.bodies.iter().enumerate() {
+            let coord = model.first_coordinate[b];
             let Some(joint) = body.joint.as_ref() else {
-                unreachable!("Model::new checks that every body after the first has a joint")
+                // A floating base: (x, y, φ) are its own coordinates.
+                self.position[b] = Vec2::new(q[coord], q[coord + 1]);
+                self.angle[b] = q[coord + 2];
+                if self.needs_rotation[b] {
+                    self.rotation[b] = Rotation::new(q[coord + 2]);
+                }
+                self.velocity[b] = Vec2::new(u[coord], u[coord + 1]);
+                self.angular_velocity[b] = u[coord + 2];
+                self.bias[b] = Vec2::zeros();
+                for k in 0..3 {
+                    self.jacobian[(3 * b + k) * n + coord + k] = 1.0;
+                }
+                continue;
             };
-            let p = joint.parent;
-            let coord = 2 + b;
-            let (angle, rate) = match joint.coordinate {
-                JointCoordinate::Absolute => (q[coord], u[coord]),
-                JointCoordinate::Relative => (
-                    self.angle[p] + q[coord],
-                    self.angular_velocity[p] + u[coord],
+            // The parent's pose and motion; the world's is the identity at rest.
+            let (p_position, p_angle, wp, p_rotation, p_bias, p_velocity) = match joint.parent {
+                Some(p) => (
+                    self.position[p],
+                    self.angle[p],
+                    self.angular_velocity[p],
+                    self.rotation[p],
+                    self.bias[p],
+                    self.velocity[p],
+                ),
+                None => (
+                    Vec2::zeros(),
+                    0.0,
+                    0.0,
+                    Rotation { sin: 0.0, cos: 1.0 },
+                    Vec2::zeros(),
+                    Vec2::zeros(),
                 ),
             };
-            self.angle[b] = angle;
-            self.angular_velocity[b] = rate;
-            if self.needs_rotation[b] {
-                self.rotation[b] = Rotation::new(angle);
-            }
-            let r_pivot = rotated(self.rotation[p], joint.pivot_in_parent);
-            let r_com = rotated(self.rotation[b], joint.com_in_child);
-            let (lp, lc) = (perp(r_pivot), perp(r_com));
-            let wp = self.angular_velocity[p];
-            self.position[b] = self.position[p] + r_pivot + r_com;
-            self.velocity[b] = self.velocity[p] + lp * wp + lc * rate;
-            // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it.
-            self.bias[b] = self.bias[p] - r_pivot * (wp * wp) - r_com * (rate * rate);
-            // Jacobian rows of b from those of its parent p (p < b, so p's rows come first).
-            let (before, rest) = self.jacobian.split_at_mut(3 * b * n);
-            let parent = &before[3 * p * n..3 * p * n + 3 * n];
-            let (px, rest_p) = parent.split_at(n);
-            let (py, pt) = rest_p.split_at(n);
-            let (bx, rest_b) = rest[..3 * n].split_at_mut(n);
-            let (by, bt) = rest_b.split_at_mut(n);
-            match joint.coordinate {
-                // Only entry `coord` of an absolute angle's row is in its pattern.
-                JointCoordinate::Absolute => bt[coord] = 1.0,
-                JointCoordinate::Relative => {
+            match joint.kind {
+                JointKind::Revolute => {
+                    let (angle, rate) = match joint.coordinate {
+                        JointCoordinate::Absolute => (q[coord], u[coord]),
+                        JointCoordinate::Relative => (p_angle + q[coord], wp + u[coord]),
+                    };
+                    (self.joint_position[b], self.joint_rate[b]) = match joint.coordinate {
+                        JointCoordinate::Absolute => (q[coord] - p_angle, u[coord] - wp),
+                        JointCoordinate::Relative => (q[coord], u[coord]),
+                    };
+                    self.angle[b] = angle;
+                    self.angular_velocity[b] = rate;
+                    if self.needs_rotation[b] {
+                        self.rotation[b] = Rotation::new(angle);
+                    }
+                    let r_pivot = rotated(p_rotation, joint.pivot_in_parent);
+                    let r_com = rotated(self.rotation[b], joint.com_in_child);
+                    let (lp, lc) = (perp(r_pivot), perp(r_com));
+                    self.position[b] = p_position + r_pivot + r_com;
+                    self.velocity[b] = p_velocity + lp * wp + lc * rate;
+                    // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it.
+                    self.bias[b] = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
+                    let (parent, bx, by, bt) = self.rows_of(b, joint.parent);
+                    let (px, py, pt) = parent;
+                    match joint.coordinate {
+                        // Only entry `coord` of an absolute angle's row is in its pattern.
+                        JointCoordinate::Absolute => bt[coord] = 1.0,
+                        JointCoordinate::Relative => {
+                            bt.copy_from_slice(pt);
+                            bt[coord] += 1.0;
+                        }
+                    }
+                    let bt = &*bt;
+                    for ((bx, by), ((px, py), (pt, bt))) in bx
+                        .iter_mut()
+                        .zip(by.iter_mut())
+                        .zip(px.iter().zip(py).zip(pt.iter().zip(bt)))
+                    {
+                        *bx = px + lp.x * pt + lc.x * bt;
+                        *by = py + lp.y * pt + lc.y * bt;
+                    }
+                }
+                JointKind::Prismatic { axis } => {
+                    // No relative rotation; the pivot slides to `pivot + s axis` (§7).
+                    let (s, rate_s) = (q[coord], u[coord]);
+                    (self.joint_position[b], self.joint_rate[b]) = (s, rate_s);
+                    self.angle[b] = p_angle;
+                    self.angular_velocity[b] = wp;
+                    if self.needs_rotation[b] {
+                        self.rotation[b] = p_rotation;
+                    }
+                    let e = p_rotation.apply(axis);
+                    let r = p_rotation.apply(joint.pivot_in_parent + axis * s)
+                        + rotated(p_rotation, joint.com_in_child);
+                    let lever = perp(r);
+                    self.position[b] = p_position + r;
+                    self.velocity[b] = p_velocity + lever * wp + e * rate_s;
+                    // Centripetal and Coriolis accelerations: −ω² r + 2 ω ṡ perp(e).
+                    self.bias[b] = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
+                    let (parent, bx, by, bt) = self.rows_of(b, joint.parent);
+                    let (px, py, pt) = parent;
                     bt.copy_from_slice(pt);
-                    bt[coord] += 1.0;
+                    for ((bx, by), ((px, py), pt)) in bx
+                        .iter_mut()
+                        .zip(by.iter_mut())
+                        .zip(px.iter().zip(py).zip(pt.iter()))
+                    {
+                        *bx = px + lever.x * pt;
+                        *by = py + lever.y * pt;
+                    }
+                    bx[coord] += e.x;
+                    by[coord] += e.y;
+                }
+                JointKind::Fixed { angle } => {
+                    // Welded to the world: the Jacobian rows stay zero.
+                    let rotation = Rotation::new(angle);
+                    self.rotation[b] = rotation;
+                    self.angle[b] = angle;
+                    self.angular_velocity[b] = 0.0;
+                    self.position[b] =
+                        joint.pivot_in_parent + rotated(rotation, joint.com_in_child);
+                    self.velocity[b] = Vec2::zeros();
+                    self.bias[b] = Vec2::zeros();
+                    (self.joint_position[b], self.joint_rate[b]) = (0.0, 0.0);
                 }
             }
-            let bt = &*bt;
-            for ((bx, by), ((px, py), (pt, bt))) in bx
-                .iter_mut()
-                .zip(by.iter_mut())
-                .zip(px.iter().zip(py).zip(pt.iter().zip(bt)))
-            {
-                *bx = px + lp.x * pt + lc.x * bt;
-                *by = py + lp.y * pt + lc.y * bt;
-            }
         }
+    }
+
+    /// The parent's Jacobian rows `(x, y, θ)` (zero rows for the world) and body `b`'s
+    /// rows, mutable (`parent < b`, so the parent's rows come first).
+    #[allow(clippy::type_complexity)]
+    #[inline]
+    fn rows_of(
+        &mut self,
+        b: usize,
+        parent: Option<usize>,
+    ) -> ((&[f64], &[f64], &[f64]), &mut [f64], &mut [f64], &mut [f64]) {
+        let n = self.dof;
+        let (before, rest) = self.jacobian.split_at_mut(3 * b * n);
+        let parent = match parent {
+            Some(p) => &before[3 * p * n..3 * p * n + 3 * n],
+            None => &self.zero_rows[..],
+        };
+        let (px, rest_p) = parent.split_at(n);
+        let (py, pt) = rest_p.split_at(n);
+        let (bx, rest_b) = rest[..3 * n].split_at_mut(n);
+        let (by, bt) = rest_b.split_at_mut(n);
+        ((px, py, pt), bx, by, bt)
+    }
+
+    /// The joint position `s` of body `b` (rad or m): its angle relative to the parent (or
+    /// the world), or its prismatic extension; 0 for a floating or fixed body.
+    #[inline]
+    pub fn joint_position(&self, b: usize) -> f64 {
+        self.joint_position[b]
+    }
+
+    /// The joint velocity `ṡ` of body `b` (rad/s or m/s).
+    #[inline]
+    pub fn joint_rate(&self, b: usize) -> f64 {
+        self.joint_rate[b]
     }
 
     /// Number of generalised coordinates.
@@ -302,31 +410,46 @@ impl Kinematics {
 
 /// The structural sparsity of the Jacobian rows (see [`Kinematics::jacobian_pattern`]).
 fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
-    let mut rows: Vec<Vec<usize>> = vec![vec![0], vec![1], vec![2]];
+    let mut rows: Vec<Vec<usize>> = Vec::with_capacity(3 * model.bodies.len());
     let union = |a: &[usize], b: &[usize]| {
         let mut u: Vec<usize> = a.iter().chain(b).copied().collect();
         u.sort_unstable();
         u.dedup();
         u
     };
-    for (b, body) in model.bodies.iter().enumerate().skip(1) {
+    let empty: [Vec<usize>; 3] = Default::default();
+    for (b, body) in model.bodies.iter().enumerate() {
+        let coord = model.first_coordinate[b];
         let Some(joint) = body.joint.as_ref() else {
-            unreachable!("Model::new checks that every body after the first has a joint")
+            rows.extend([vec![coord], vec![coord + 1], vec![coord + 2]]);
+            continue;
         };
-        let p = joint.parent;
-        let theta = match joint.coordinate {
-            JointCoordinate::Absolute => vec![2 + b],
-            JointCoordinate::Relative => union(&rows[3 * p + 2], &[2 + b]),
+        let parent = |k: usize| match joint.parent {
+            Some(p) => rows[3 * p + k].clone(),
+            None => empty[k].clone(),
         };
-        let mut levers: Vec<usize> = Vec::new();
-        if joint.pivot_in_parent != Vec2::zeros() {
-            levers = union(&levers, &rows[3 * p + 2]);
-        }
-        if joint.com_in_child != Vec2::zeros() {
-            levers = union(&levers, &theta);
-        }
-        let x = union(&rows[3 * p], &levers);
-        let y = union(&rows[3 * p + 1], &levers);
+        let (px, py, pt) = (parent(0), parent(1), parent(2));
+        let (x, y, theta) = match joint.kind {
+            JointKind::Revolute => {
+                let theta = match joint.coordinate {
+                    JointCoordinate::Absolute => vec![coord],
+                    JointCoordinate::Relative => union(&pt, &[coord]),
+                };
+                let mut levers: Vec<usize> = Vec::new();
+                if joint.pivot_in_parent != Vec2::zeros() {
+                    levers = union(&levers, &pt);
+                }
+                if joint.com_in_child != Vec2::zeros() {
+                    levers = union(&levers, &theta);
+                }
+                (union(&px, &levers), union(&py, &levers), theta)
+            }
+            JointKind::Prismatic { .. } => {
+                let levers = union(&pt, &[coord]);
+                (union(&px, &levers), union(&py, &levers), pt)
+            }
+            JointKind::Fixed { .. } => (Vec::new(), Vec::new(), Vec::new()),
+        };
         rows.extend([x, y, theta]);
     }
     let mut start = vec![0];

@@ -1,7 +1,9 @@
 //! Planar multibody model in minimal (generalised) coordinates.
 //!
-//! A model is a floating base body `(x, y, φ)` plus child bodies on revolute joints
-//! (physics.md §1). It knows its mass matrix `M(q)`, the force vector `h(q, u, t)` and the
+//! A model is one or more trees of bodies (physics.md §1, §7). A tree's root is a floating
+//! base `(x, y, φ)`, pinned to a world point by a revolute joint, or fixed to the world;
+//! its other bodies hang on revolute or prismatic joints, each with optional damping, a
+//! joint spring and end stops (joint limits). It knows its mass matrix `M(q)`, the force vector `h(q, u, t)` and the
 //! contact kinematics (gaps `g_N`, directions `w_N`, `w_T`) of every potential contact
 //! between a body's contact shape and the terrain. The model is immutable once built;
 //! [`Kinematics`] is the model evaluated at one state `(q, u)`, in buffers reused from one
@@ -16,11 +18,11 @@ mod model;
 mod shape;
 mod terrain;
 
-pub use body::{Body, Joint, JointCoordinate};
+pub use body::{Body, Joint, JointCoordinate, JointKind, JointLimits};
 pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
 pub use forces::Spring;
 pub use kinematics::Kinematics;
-pub use model::{Model, ModelError};
+pub use model::{LimitCandidate, Model, ModelError};
 pub use shape::{Shape, ShapeInstance};
 pub use terrain::{Terrain, TerrainFeature};
 

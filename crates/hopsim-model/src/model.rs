@@ -3,7 +3,10 @@
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
-use crate::{Body, Kinematics, Shape, ShapeFeature, ShapeInstance, Spring, Terrain, Vec2};
+use crate::{
+    Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance,
+    Spring, Terrain, Vec2,
+};
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
 
 /// What makes a model impossible to build.
@@ -11,16 +14,14 @@ use nalgebra::{DMatrix, DVector, DVectorViewMut};
 pub enum ModelError {
     #[error("a model needs at least one body")]
     NoBodies,
+    #[error("a model needs at least one body that is not fixed (no generalised coordinate)")]
+    NoCoordinates,
     #[error("body '{body}': {what} must be positive and finite, got {value}")]
     NonPositive {
         body: String,
         what: &'static str,
         value: f64,
     },
-    #[error("body '{body}': the floating base (first body) cannot have a joint")]
-    BaseWithJoint { body: String },
-    #[error("body '{body}': every body after the first needs a joint")]
-    MissingJoint { body: String },
     #[error("body '{body}': joint parent {parent} must be an earlier body")]
     BadParent { body: String, parent: usize },
     #[error("body '{body}': {reason}")]
@@ -38,11 +39,51 @@ pub enum ModelError {
     BadSpring { spring: String, reason: String },
 }
 
+/// One end stop of a joint (physics.md §7): the unilateral constraint
+/// `g = s − lower ≥ 0` or `g = upper − s ≥ 0` on the joint position `s` of `body`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LimitCandidate {
+    /// Name in records: `<body>/lower` or `<body>/upper`.
+    pub name: String,
+    /// The body whose joint the stop limits.
+    pub body: usize,
+    /// `true` for the upper stop (`g = upper − s`), `false` for the lower (`g = s − lower`).
+    pub upper: bool,
+    /// The stop's position, rad or m.
+    pub bound: f64,
+    /// Its Newton restitution `ε`.
+    pub restitution: f64,
+}
+
+impl LimitCandidate {
+    /// The gap `g` at joint position `s`: `s − lower` or `upper − s` (≤ 0: closed).
+    #[inline]
+    pub fn gap(&self, s: f64) -> f64 {
+        if self.upper {
+            self.bound - s
+        } else {
+            s - self.bound
+        }
+    }
+
+    /// `∂g/∂s`: `+1` for a lower stop, `−1` for an upper one.
+    #[inline]
+    pub fn sign(&self) -> f64 {
+        if self.upper {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+}
+
 /// A planar multibody model; immutable once built (evaluated at a state into a [`Kinematics`]).
 #[derive(Clone, Debug)]
 pub struct Model {
-    /// Body 0 is the floating base with coordinates `(x, y, φ)`; body `b ≥ 1` adds
-    /// coordinate `2 + b`.
+    /// The bodies, parents before children. A body without a joint is a floating base with
+    /// coordinates `(x, y, φ)`; a body on a joint adds one coordinate (none when fixed).
+    /// Coordinates are numbered in body order, so one floating tree has
+    /// `q = (x, y, φ, q_1, q_2, …)` (physics.md §1, §7).
     pub bodies: Vec<Body>,
     /// Contact shapes on the bodies.
     pub shapes: Vec<ShapeInstance>,
@@ -54,6 +95,12 @@ pub struct Model {
     pub springs: Vec<Spring>,
     /// Gravitational acceleration, m/s² (default `(0, -9.81)`).
     pub gravity: Vec2,
+    /// Every finite joint stop (physics.md §7), two per joint with both limits.
+    pub limits: Vec<LimitCandidate>,
+    /// First generalised coordinate of each body (for a fixed body: the next body's).
+    pub(crate) first_coordinate: Vec<usize>,
+    /// Number of generalised coordinates.
+    dof: usize,
 }
 
 impl Model {
@@ -70,7 +117,14 @@ impl Model {
         check_bodies(&bodies)?;
         check_shapes(&shapes, bodies.len())?;
         check_springs(&springs, bodies.len())?;
-        let contacts = candidates(&shapes, &terrain, material);
+        let contacts = candidates(&bodies, &shapes, &terrain, material);
+        let mut first_coordinate = Vec::with_capacity(bodies.len());
+        let mut dof = 0;
+        for body in &bodies {
+            first_coordinate.push(dof);
+            dof += body.coordinate_count();
+        }
+        let limits = limit_candidates(&bodies);
         Ok(Self {
             bodies,
             shapes,
@@ -78,6 +132,9 @@ impl Model {
             contacts,
             springs,
             gravity,
+            limits,
+            first_coordinate,
+            dof,
         })
     }
 
@@ -105,14 +162,56 @@ impl Model {
         )
     }
 
-    /// Number of generalised coordinates: 3 for the base plus one per joint.
+    /// Number of generalised coordinates: 3 per floating base plus one per joint that is
+    /// not fixed.
     pub fn dof(&self) -> usize {
-        self.bodies.len() + 2
+        self.dof
     }
 
-    /// Total mass, kg.
+    /// The first generalised coordinate of body `b` (`x` of a floating base, the joint
+    /// coordinate of a jointed body); `None` for a fixed body.
+    #[inline]
+    pub fn coordinate(&self, b: usize) -> Option<usize> {
+        (self.bodies[b].coordinate_count() > 0).then(|| self.first_coordinate[b])
+    }
+
+    /// The root of body `b`'s tree.
+    pub fn root(&self, mut b: usize) -> usize {
+        while let Some(p) = self.bodies[b].joint.as_ref().and_then(|j| j.parent) {
+            b = p;
+        }
+        b
+    }
+
+    /// Adds a generalised force `value` acting in the joint of body `b` to `out`: a torque
+    /// on `b` with its reaction on the parent (revolute, N m) or a force along the axis on
+    /// `b` and its reaction on the parent (prismatic, N), i.e. `value ∂s/∂q` with `s` the
+    /// joint position (physics.md §7). Nothing for a floating or fixed body.
+    #[inline]
+    pub fn add_joint_force_to(
+        &self,
+        kinematics: &Kinematics,
+        b: usize,
+        value: f64,
+        out: &mut [f64],
+    ) {
+        let Some(joint) = self.bodies[b].joint.as_ref() else {
+            return;
+        };
+        match joint.kind {
+            JointKind::Revolute => kinematics.add_torque_to(b, joint.parent, value, out),
+            JointKind::Prismatic { .. } => out[self.first_coordinate[b]] += value,
+            JointKind::Fixed { .. } => {}
+        }
+    }
+
+    /// Total mass of the bodies that move (fixed bodies excluded), kg.
     pub fn total_mass(&self) -> f64 {
-        self.bodies.iter().map(|b| b.mass).sum()
+        self.bodies
+            .iter()
+            .filter(|b| !b.is_fixed())
+            .map(|b| b.mass)
+            .sum()
     }
 
     /// Mass matrix `M = Σ_b J_bᵀ diag(m_b, m_b, I_b) J_b` (needs `kinematics.update` first).
@@ -200,13 +299,24 @@ impl Model {
                 let f = body.mass * (self.gravity - kinematics.bias(b));
                 kinematics.add_point_force_to(b, Vec2::zeros(), f, h);
             }
-            if let (Some(h), Some(joint)) = (
-                dissipative.as_deref_mut(),
-                body.joint.as_ref().filter(|j| j.damping != 0.0),
-            ) {
-                let rate =
-                    kinematics.angular_velocity[b] - kinematics.angular_velocity[joint.parent];
-                kinematics.add_torque_to(b, Some(joint.parent), -joint.damping * rate, h);
+            let Some(joint) = body.joint.as_ref() else {
+                continue;
+            };
+            if let Some(h) = dissipative.as_deref_mut().filter(|_| joint.damping != 0.0) {
+                let rate = match (joint.kind, joint.parent) {
+                    (JointKind::Revolute, Some(p)) => {
+                        kinematics.angular_velocity[b] - kinematics.angular_velocity[p]
+                    }
+                    _ => kinematics.joint_rate(b),
+                };
+                self.add_joint_force_to(kinematics, b, -joint.damping * rate, h);
+            }
+            if let Some(h) = conservative
+                .as_deref_mut()
+                .filter(|_| joint.stiffness != 0.0)
+            {
+                let stretch = kinematics.joint_position(b) - joint.rest_position;
+                self.add_joint_force_to(kinematics, b, -joint.stiffness * stretch, h);
             }
         }
         for spring in &self.springs {
@@ -325,22 +435,32 @@ impl Model {
             .sum()
     }
 
-    /// Energy stored in the springs.
+    /// Energy stored in the springs and the joint springs.
     pub fn spring_energy(&self, kinematics: &Kinematics) -> f64 {
-        (0..self.springs.len())
+        let springs: f64 = (0..self.springs.len())
             .map(|s| {
                 let (a, b) = self.spring_ends(kinematics, s);
                 self.springs[s].energy((a - b).norm())
             })
-            .sum()
+            .sum();
+        self.bodies
+            .iter()
+            .enumerate()
+            .filter_map(|(b, body)| body.joint.as_ref().map(|j| (b, j)))
+            .filter(|(_, j)| j.stiffness != 0.0)
+            .fold(springs, |sum, (b, j)| {
+                let stretch = kinematics.joint_position(b) - j.rest_position;
+                sum + 0.5 * j.stiffness * stretch * stretch
+            })
     }
 
-    /// Centre of mass of the whole robot, m.
+    /// Centre of mass of the bodies that move (fixed bodies excluded), m.
     pub fn center_of_mass(&self, kinematics: &Kinematics) -> Vec2 {
         let weighted: Vec2 = self
             .bodies
             .iter()
             .enumerate()
+            .filter(|(_, body)| !body.is_fixed())
             .map(|(b, body)| body.mass * kinematics.position[b])
             .sum();
         weighted / self.total_mass()
@@ -360,39 +480,38 @@ fn positive(body: &Body, what: &'static str, value: f64) -> Result<(), ModelErro
 }
 
 fn check_bodies(bodies: &[Body]) -> Result<(), ModelError> {
-    let base = bodies.first().ok_or(ModelError::NoBodies)?;
-    if base.joint.is_some() {
-        return Err(ModelError::BaseWithJoint {
-            body: base.name.clone(),
-        });
+    if bodies.is_empty() {
+        return Err(ModelError::NoBodies);
+    }
+    if bodies.iter().all(|b| b.coordinate_count() == 0) {
+        return Err(ModelError::NoCoordinates);
     }
     for (b, body) in bodies.iter().enumerate() {
-        positive(body, "mass", body.mass)?;
-        positive(body, "inertia", body.inertia)?;
-        if b == 0 {
-            continue;
+        if body.is_fixed() {
+            // A fixed base only carries shapes: its mass and inertia may be zero.
+            for (what, value) in [("mass", body.mass), ("inertia", body.inertia)] {
+                if !(value >= 0.0 && value.is_finite()) {
+                    return Err(ModelError::NonPositive {
+                        body: body.name.clone(),
+                        what,
+                        value,
+                    });
+                }
+            }
+        } else {
+            positive(body, "mass", body.mass)?;
+            positive(body, "inertia", body.inertia)?;
         }
-        let joint = body
-            .joint
-            .as_ref()
-            .ok_or_else(|| ModelError::MissingJoint {
-                body: body.name.clone(),
-            })?;
-        if joint.parent >= b {
+        let Some(joint) = body.joint.as_ref() else {
+            continue;
+        };
+        if let Some(parent) = joint.parent.filter(|&p| p >= b) {
             return Err(ModelError::BadParent {
                 body: body.name.clone(),
-                parent: joint.parent,
+                parent,
             });
         }
-        let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
-        let reason = if !finite(joint.pivot_in_parent) || !finite(joint.com_in_child) {
-            Some("the joint's pivot and centre of mass offsets must be finite")
-        } else if !(joint.damping >= 0.0 && joint.damping.is_finite()) {
-            Some("joint damping must be finite and non-negative")
-        } else {
-            None
-        };
-        if let Some(reason) = reason {
+        if let Some(reason) = joint_problem(joint) {
             return Err(ModelError::BadJoint {
                 body: body.name.clone(),
                 reason: reason.into(),
@@ -400,6 +519,52 @@ fn check_bodies(bodies: &[Body]) -> Result<(), ModelError> {
         }
     }
     Ok(())
+}
+
+/// What is wrong with a joint's parameters, if anything.
+fn joint_problem(joint: &Joint) -> Option<&'static str> {
+    let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
+    let non_negative = |x: f64| x >= 0.0 && x.is_finite();
+    if !finite(joint.pivot_in_parent) || !finite(joint.com_in_child) {
+        return Some("the joint's pivot and centre of mass offsets must be finite");
+    }
+    if !non_negative(joint.damping) {
+        return Some("joint damping must be finite and non-negative");
+    }
+    if !non_negative(joint.stiffness) || !joint.rest_position.is_finite() {
+        return Some("the joint spring's stiffness must be finite and non-negative, its rest position finite");
+    }
+    match joint.kind {
+        JointKind::Revolute => {}
+        JointKind::Prismatic { axis } => {
+            if !finite(axis) || (axis.norm() - 1.0).abs() > 1e-9 {
+                return Some("a prismatic joint's axis must be a finite unit vector");
+            }
+        }
+        JointKind::Fixed { angle } => {
+            if joint.parent.is_some() {
+                return Some("only a tree's root can be fixed (welded to the world)");
+            }
+            if !angle.is_finite() {
+                return Some("a fixed body's angle must be finite");
+            }
+        }
+    }
+    if joint.coordinate == JointCoordinate::Absolute && joint.kind != JointKind::Revolute {
+        return Some("only a revolute joint can have an absolute-angle coordinate");
+    }
+    if let Some(l) = joint.limits {
+        if !joint.has_coordinate() {
+            return Some("a fixed body has no joint position to limit");
+        }
+        if l.lower.is_nan() || l.upper.is_nan() || l.lower >= l.upper {
+            return Some("joint limits need lower < upper");
+        }
+        if !(0.0..=1.0).contains(&l.restitution) {
+            return Some("the joint limits' restitution must be in [0, 1]");
+        }
+    }
+    None
 }
 
 fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError> {
@@ -502,17 +667,48 @@ fn check_springs(springs: &[Spring], count: usize) -> Result<(), ModelError> {
     Ok(())
 }
 
+/// The finite stops of every joint with limits, lower before upper, in body order.
+fn limit_candidates(bodies: &[Body]) -> Vec<LimitCandidate> {
+    let mut out = Vec::new();
+    for (b, body) in bodies.iter().enumerate() {
+        let Some(limits) = body.joint.as_ref().and_then(|j| j.limits) else {
+            continue;
+        };
+        for (upper, bound, side) in [
+            (false, limits.lower, "lower"),
+            (true, limits.upper, "upper"),
+        ] {
+            if bound.is_finite() {
+                out.push(LimitCandidate {
+                    name: format!("{}/{side}", body.name),
+                    body: b,
+                    upper,
+                    bound,
+                    restitution: limits.restitution,
+                });
+            }
+        }
+    }
+    out
+}
+
 /// Pairs every shape feature with every terrain feature it can touch: smooth boundaries
 /// (circle, arc, ellipse) with lines and corners, vertices (polygon corners, arc ends,
 /// points) with lines, a polygon's edges with corners.
 fn candidates(
+    bodies: &[Body],
     shapes: &[ShapeInstance],
     terrain: &Terrain,
     material: ContactMaterial,
 ) -> Vec<ContactCandidate> {
     use crate::{Shape, TerrainFeature};
     let mut out = Vec::new();
-    for (s, inst) in shapes.iter().enumerate() {
+    // A fixed body's shapes never move: they have no contacts with the terrain.
+    for (s, inst) in shapes
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| !bodies[i.body].is_fixed())
+    {
         for (t, feature) in terrain.features.iter().enumerate() {
             let is_line = matches!(feature, TerrainFeature::Line { .. });
             let mut push = |feature: ShapeFeature, label: String| {

@@ -2,8 +2,8 @@
 //! finite differences of positions and energies, and Lagrange's equations (physics.md §1).
 
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, Kinematics, Model, Shape, ShapeInstance, Spring,
-    Terrain, Vec2,
+    Body, ContactMaterial, Joint, JointCoordinate, JointKind, Kinematics, Model, Shape,
+    ShapeInstance, Spring, Terrain, Vec2,
 };
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
@@ -12,11 +12,9 @@ use proptest::prelude::*;
 /// joint, with offset pivots and centres of mass, joint damping and a damped spring.
 fn tree(offsets: [f64; 6], damping: f64) -> Model {
     let joint = |parent, pivot: Vec2, com: Vec2, coordinate| Joint {
-        parent,
-        pivot_in_parent: pivot,
-        com_in_child: com,
         coordinate,
         damping,
+        ..Joint::revolute(Some(parent), pivot, com)
     };
     let [a, b, c, d, e, f] = offsets;
     let bodies = vec![
@@ -74,6 +72,105 @@ fn tree(offsets: [f64; 6], damping: f64) -> Model {
     .unwrap()
 }
 
+/// Two trees and a fixed body (physics.md §7): a floating hip with a leg on a sprung,
+/// damped prismatic joint at an offset pivot and a tilted axis; a fixed frame; an arm
+/// pinned to the world with a torsional joint spring, carrying a slider on a prismatic
+/// joint. Offsets as in [`tree`].
+fn forest(offsets: [f64; 6], damping: f64) -> Model {
+    let [a, b, c, d, e, f] = offsets;
+    let prismatic = |parent, pivot: Vec2, axis: Vec2, com: Vec2| Joint {
+        kind: JointKind::Prismatic {
+            axis: axis.normalize(),
+        },
+        damping,
+        ..Joint::revolute(parent, pivot, com)
+    };
+    let body = |name: &str, mass, inertia, joint| Body {
+        name: name.into(),
+        mass,
+        inertia,
+        joint,
+    };
+    let bodies = vec![
+        Body::base("hip", 1.3, 0.02),
+        body(
+            "leg",
+            0.3,
+            0.004,
+            Some(Joint {
+                stiffness: 50.0,
+                rest_position: 0.1,
+                ..prismatic(
+                    Some(0),
+                    Vec2::new(a, b),
+                    Vec2::new(c, -1.0),
+                    Vec2::new(d, 0.03),
+                )
+            }),
+        ),
+        body(
+            "frame",
+            2.0,
+            0.1,
+            Some(Joint {
+                kind: JointKind::Fixed { angle: 0.3 },
+                ..Joint::revolute(None, Vec2::new(1.0, 0.5), Vec2::zeros())
+            }),
+        ),
+        body(
+            "arm",
+            0.5,
+            0.01,
+            Some(Joint {
+                stiffness: 2.0,
+                rest_position: 0.2,
+                damping,
+                ..Joint::revolute(None, Vec2::new(1.0, 0.8), Vec2::new(e, -0.2))
+            }),
+        ),
+        body(
+            "slider",
+            0.2,
+            0.001,
+            Some(prismatic(
+                Some(3),
+                Vec2::new(0.0, -0.1),
+                Vec2::new(1.0, f),
+                Vec2::new(0.02, 0.01),
+            )),
+        ),
+    ];
+    let shapes = ["leg", "frame", "slider"]
+        .iter()
+        .enumerate()
+        .map(|(i, name)| ShapeInstance {
+            name: (*name).into(),
+            body: [1, 2, 4][i],
+            shape: Shape::Point {
+                position: Vec2::new(0.01, -0.02),
+            },
+        })
+        .collect();
+    Model::new(
+        bodies,
+        shapes,
+        Terrain::flat(0.0),
+        vec![],
+        Vec2::new(0.0, -9.81),
+        ContactMaterial::default(),
+    )
+    .unwrap()
+}
+
+/// The tree of [`tree`] or, with `several`, the trees of [`forest`].
+fn model(several: bool, offsets: [f64; 6], damping: f64) -> Model {
+    if several {
+        forest(offsets, damping)
+    } else {
+        tree(offsets, damping)
+    }
+}
+
 fn evaluate(model: &Model, q: &DVector<f64>, u: &DVector<f64>) -> Kinematics {
     let mut kinematics = Kinematics::new(model);
     kinematics.update(model, q, u);
@@ -120,11 +217,13 @@ fn unit(n: usize, j: usize) -> DVector<f64> {
     DVector::from_fn(n, |i, _| if i == j { 1.0 } else { 0.0 })
 }
 
-fn state() -> impl Strategy<Value = ([f64; 6], Vec<f64>, Vec<f64>)> {
+/// Offsets, `q`, `u` (the first `dof` entries are used) and which model.
+fn state() -> impl Strategy<Value = ([f64; 6], Vec<f64>, Vec<f64>, bool)> {
     (
         prop::array::uniform6(-0.3..0.3f64),
-        prop::collection::vec(-2.0..2.0f64, 5),
-        prop::collection::vec(-3.0..3.0f64, 5),
+        prop::collection::vec(-2.0..2.0f64, 6),
+        prop::collection::vec(-3.0..3.0f64, 6),
+        any::<bool>(),
     )
 }
 
@@ -134,10 +233,10 @@ proptest! {
     /// Jacobian = ∂(poses)/∂q, velocities = J u, bias = J̇ u, also after other updates of
     /// the same workspace (buffers are reused, not cleared).
     #[test]
-    fn jacobian_velocities_and_bias_match_finite_differences((offsets, q, u) in state()) {
-        let model = tree(offsets, 0.0);
+    fn jacobian_velocities_and_bias_match_finite_differences((offsets, q, u, several) in state()) {
+        let model = model(several, offsets, 0.0);
         let n = model.dof();
-        let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
+        let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
         let mut kinematics = Kinematics::new(&model);
         kinematics.update(&model, &(&q * 0.5), &(&u * -2.0));
         kinematics.update(&model, &q, &u);
@@ -162,13 +261,14 @@ proptest! {
     }
 
     /// `M` is symmetric with `½ uᵀ M u` = kinetic energy, and `h` (without damping) is
-    /// Lagrange's right-hand side `-∂V/∂q - (Ṁ u - ∂T/∂q)`: gravity, springs and the
-    /// velocity-product terms of relative joints all checked at once.
+    /// Lagrange's right-hand side `-∂V/∂q - (Ṁ u - ∂T/∂q)`: gravity, springs (joint springs
+    /// included) and the velocity-product terms of relative and prismatic joints all checked
+    /// at once.
     #[test]
-    fn mass_matrix_and_forces_follow_from_lagranges_equations((offsets, q, u) in state()) {
-        let model = tree(offsets, 0.0);
+    fn mass_matrix_and_forces_follow_from_lagranges_equations((offsets, q, u, several) in state()) {
+        let model = model(several, offsets, 0.0);
         let n = model.dof();
-        let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
+        let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
         let kinematics = evaluate(&model, &q, &u);
         let mut m = DMatrix::zeros(n, n);
         model.mass_matrix(&kinematics, &mut m);
@@ -196,16 +296,16 @@ proptest! {
     /// Joint and spring damping only dissipate: `uᵀ h_damping ≤ 0`, and equals
     /// `-Σ c θ̇_rel² - c_s L̇²`.
     #[test]
-    fn damping_dissipates((offsets, q, u) in state(), c in 0.0..3.0f64) {
+    fn damping_dissipates((offsets, q, u, _) in state(), c in 0.0..3.0f64) {
         let model = tree(offsets, c);
         let n = model.dof();
-        let (q, u) = (DVector::from_vec(q), DVector::from_vec(u));
+        let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
         let kinematics = evaluate(&model, &q, &u);
         let mut d = DVector::zeros(n);
         model.damping_forces(&kinematics, &mut d);
         let joints: f64 = (1..3)
             .map(|b| {
-                let p = model.bodies[b].joint.as_ref().unwrap().parent;
+                let p = model.bodies[b].joint.as_ref().unwrap().parent.unwrap();
                 (kinematics.angular_velocity[b] - kinematics.angular_velocity[p]).powi(2)
             })
             .sum();
@@ -219,6 +319,48 @@ proptest! {
         prop_assert!((u.dot(&d) - expected).abs() < 1e-6 * (1.0 + expected.abs()));
         prop_assert!(u.dot(&d) <= 1e-12);
     }
+
+    /// In the trees of [`forest`], damping is `-c ṡ²` per damped joint, with `ṡ` the joint
+    /// position's rate by finite differences (prismatic extensions, the pinned arm's angle).
+    #[test]
+    fn joint_damping_of_several_trees_dissipates((offsets, q, u, _) in state(), c in 0.0..3.0f64) {
+        let model = forest(offsets, c);
+        let n = model.dof();
+        let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
+        let kinematics = evaluate(&model, &q, &u);
+        let mut d = DVector::zeros(n);
+        model.damping_forces(&kinematics, &mut d);
+        let expected: f64 = [1, 3, 4]
+            .iter()
+            .map(|&b| {
+                let position = |q: &DVector<f64>| evaluate(&model, q, &u).joint_position(b);
+                -c * along(position, &q, &u, 1e-6).powi(2)
+            })
+            .sum();
+        prop_assert!((u.dot(&d) - expected).abs() < 1e-6 * (1.0 + expected.abs()));
+    }
+}
+
+/// Coordinates are numbered in body order: 3 per floating base, 1 per joint, none for a
+/// fixed body; a fixed body's shapes have no terrain contacts, and it does not count in
+/// the mass or centre of mass of what moves.
+#[test]
+fn coordinates_of_several_trees() {
+    let model = forest([0.0; 6], 0.0);
+    assert_eq!(model.dof(), 6);
+    let coordinates: Vec<Option<usize>> = (0..5).map(|b| model.coordinate(b)).collect();
+    assert_eq!(coordinates, [Some(0), Some(3), None, Some(4), Some(5)]);
+    assert_eq!(
+        (0..5).map(|b| model.root(b)).collect::<Vec<_>>(),
+        [0, 0, 2, 3, 3]
+    );
+    assert!(model
+        .contacts
+        .iter()
+        .all(|c| model.shapes[c.shape].body != 2));
+    assert!((model.total_mass() - (1.3 + 0.3 + 0.5 + 0.2)).abs() < 1e-15);
+    let k = evaluate(&model, &DVector::zeros(6), &DVector::zeros(6));
+    assert_eq!((k.position[2], k.angle[2]), (Vec2::new(1.0, 0.5), 0.3));
 }
 
 #[test]
@@ -297,4 +439,30 @@ fn non_finite_parameters_are_build_errors() {
     let mut m = base;
     m.bodies[2].joint.as_mut().unwrap().pivot_in_parent = Vec2::new(f64::NAN, 0.0);
     assert!(rebuild(&m).is_err());
+    // Joints of several trees: limits, axes, welds and what only revolute joints have.
+    let forest = forest([0.0; 6], 0.0);
+    let joint_error = |b: usize, change: &dyn Fn(&mut Joint)| {
+        let mut m = forest.clone();
+        change(m.bodies[b].joint.as_mut().unwrap());
+        rebuild(&m).unwrap_err().to_string()
+    };
+    let limits = |lower, upper, restitution| {
+        Some(hopsim_model::JointLimits {
+            lower,
+            upper,
+            restitution,
+        })
+    };
+    assert!(joint_error(1, &|j| j.limits = limits(0.2, 0.1, 0.0)).contains("lower < upper"));
+    assert!(joint_error(1, &|j| j.limits = limits(0.0, 0.1, 1.5)).contains("restitution"));
+    assert!(joint_error(1, &|j| {
+        j.kind = JointKind::Prismatic {
+            axis: Vec2::new(2.0, 0.0),
+        }
+    })
+    .contains("unit vector"));
+    assert!(joint_error(1, &|j| j.coordinate = JointCoordinate::Absolute).contains("absolute"));
+    assert!(joint_error(1, &|j| j.kind = JointKind::Fixed { angle: 0.0 }).contains("root"));
+    assert!(joint_error(3, &|j| j.stiffness = -1.0).contains("stiffness"));
+    assert!(joint_error(4, &|j| j.parent = Some(4)).contains("earlier body"));
 }

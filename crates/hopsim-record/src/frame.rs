@@ -160,6 +160,10 @@ pub enum EventKind {
     ShapeContact { contact: String },
     /// An impulse was applied by the controller, N s or N m s.
     AppliedImpulse { magnitude: f64 },
+    /// A joint stop (`<body>/lower` or `<body>/upper`) started carrying load: its
+    /// percussion in that step, N m s (revolute joint) or N s (prismatic joint)
+    /// (physics.md §7).
+    JointLimit { limit: String, impulse: f64 },
 }
 
 impl EventKind {
@@ -172,6 +176,7 @@ impl EventKind {
             EventKind::ShapeSwitch { .. } => "shape_switch",
             EventKind::ShapeContact { .. } => "shape_contact",
             EventKind::AppliedImpulse { .. } => "applied_impulse",
+            EventKind::JointLimit { .. } => "joint_limit",
         }
     }
 }
@@ -189,6 +194,9 @@ impl fmt::Display for EventKind {
                 write!(f, "shape={shape} active={active}")
             }
             EventKind::AppliedImpulse { magnitude } => write!(f, "magnitude={magnitude:?}"),
+            EventKind::JointLimit { limit, impulse } => {
+                write!(f, "limit={limit} impulse={impulse:?}")
+            }
         }
     }
 }
@@ -274,6 +282,10 @@ mod tests {
                 contact: "cane/terrain0".into(),
             },
             EventKind::AppliedImpulse { magnitude: 1.0 },
+            EventKind::JointLimit {
+                limit: "rod/lower".into(),
+                impulse: 0.9,
+            },
         ];
         for kind in kinds {
             let event = Event {

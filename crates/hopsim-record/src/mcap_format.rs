@@ -242,7 +242,8 @@ fn event_schema() -> Value {
                     "brake",
                     "shape_switch",
                     "shape_contact",
-                    "applied_impulse"
+                    "applied_impulse",
+                    "joint_limit"
                 ],
             }),
         )])),
@@ -271,6 +272,21 @@ fn event_schema() -> Value {
         (
             "magnitude",
             number("applied_impulse: magnitude, N s (linear) or N m s (rotational)"),
+        ),
+        (
+            "limit",
+            json!({
+                "type": "string",
+                "description": "joint_limit: the stop that started carrying load, \
+                                <body>/lower or <body>/upper"
+            }),
+        ),
+        (
+            "impulse",
+            number(
+                "joint_limit: the stop's percussion in that step, N m s (revolute joint) or \
+                 N s (prismatic joint) (physics.md §7)",
+            ),
         ),
     ]);
     if let Some(Value::Object(p)) = schema.get_mut("properties") {

@@ -506,6 +506,7 @@ fn event_color(kind: &EventKind) -> Color {
         EventKind::ShapeSwitch { .. } => Color::from_rgb(148, 103, 189),
         EventKind::ShapeContact { .. } => Color::from_rgb(140, 86, 75),
         EventKind::AppliedImpulse { .. } => Color::from_rgb(255, 127, 14),
+        EventKind::JointLimit { .. } => Color::from_rgb(23, 190, 207),
     }
 }
 

@@ -5,7 +5,8 @@ use crate::error::{number, short_list, suggestion, SceneError};
 use crate::reader::{Num, Table};
 use crate::tree::Origin;
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, Shape, ShapeInstance, Spring, Vec2,
+    Body, ContactMaterial, Joint, JointCoordinate, JointKind, JointLimits, Shape, ShapeInstance,
+    Spring, Vec2,
 };
 use std::collections::{HashMap, HashSet};
 
@@ -239,8 +240,8 @@ fn parent_error(
     )
 }
 
-/// The bodies and the names of the generalised coordinates (`x, y, phi`, then one per
-/// child body).
+/// The bodies and the names of the generalised coordinates (`x, y, phi` of the first
+/// body when it is a floating base, then those each further body adds).
 pub(crate) fn read_bodies(
     top: &Table<'_>,
     tables: &[Table<'_>],
@@ -268,64 +269,89 @@ pub(crate) fn read_bodies(
         parents.push(t.opt_str("parent").ok().flatten());
     }
     let mut bodies = Vec::with_capacity(tables.len());
-    let mut coordinates: Vec<String> = ["x", "y", "phi"].map(String::from).to_vec();
-    let mut taken: HashSet<String> = coordinates.iter().cloned().collect();
+    let mut coordinates = Coordinates::default();
     for (b, t) in tables.iter().enumerate() {
         let name = t.str("name")?;
         names.add(t, "name", name)?;
-        let mass = t.f64("mass", Num::positive("kg").at_least(1e-9))?;
-        let inertia = t.f64("inertia", Num::positive("kg m²").at_least(1e-12))?;
         let parent = t.opt_str("parent")?;
-        let joint = match (b, parent) {
-            (0, None) => None,
-            (0, Some(_)) => {
-                return Err(t.error_at_key(
+        let base = match t.get("base") {
+            Some(_) => Some(t.choice("base", &["floating", "pinned", "fixed"], None)?),
+            None => None,
+        };
+        let fixed = base == Some("fixed");
+        let (mass, inertia) = if fixed {
+            // A fixed base only carries shapes: its mass and inertia are optional.
+            (
+                t.f64_or("mass", 0.0, Num::non_negative("kg"))?,
+                t.f64_or("inertia", 0.0, Num::non_negative("kg m²"))?,
+            )
+        } else {
+            (
+                t.f64("mass", Num::positive("kg").at_least(1e-9))?,
+                t.f64("inertia", Num::positive("kg m²").at_least(1e-12))?,
+            )
+        };
+        let joint =
+            match (b, parent, base) {
+                (_, Some(_), Some(_)) => {
+                    return Err(t.error_at_key(
+                        "base",
+                        "a body with a parent hangs on a joint; 'base' belongs to a tree's root \
+                     (a body without a parent)",
+                    ))
+                }
+                (0, Some(_), None) => return Err(t.error_at_key(
                     "parent",
-                    "the first body is the floating base (x, y, phi) and cannot have a parent",
-                ))
-            }
-            (_, None) => {
-                return Err(t.error_at_key(
-                    "parent",
-                    format!(
-                        "missing; every body after the first hangs on a revolute joint on a \
-                         parent body (one of: {})",
+                    "the first body is the floating base (x, y, phi) and cannot have a parent; \
+                     parents come before their children",
+                )),
+                (0, None, None) | (_, None, Some("floating")) => {
+                    coordinates.floating(t, b, name)?;
+                    None
+                }
+                (_, None, None) => {
+                    return Err(t.error_at_key(
+                        "parent",
+                        format!(
+                        "missing; every body after the first hangs on a joint on a parent body \
+                         (one of: {}) or starts a tree of its own with base = \"floating\", \
+                         \"pinned\" or \"fixed\"",
                         short_list((0..b).map(|i| names.get(i)), LISTED)
                     ),
-                ))
-            }
-            (_, Some(p)) => {
-                let parent = match names.find(p) {
-                    Some(i) if i < b => i,
-                    _ => return Err(parent_error(tables, b, p, names, &all, &parents)),
-                };
-                let coordinate =
-                    match t.choice("coordinate", &["relative", "absolute"], Some("relative"))? {
-                        "absolute" => JointCoordinate::Absolute,
-                        _ => JointCoordinate::Relative,
+                    ))
+                }
+                (_, None, Some("fixed")) => {
+                    if t.get("coordinate_name").is_some() {
+                        return Err(t.error_at_key(
+                            "coordinate_name",
+                            "a fixed body has no coordinate to name",
+                        ));
+                    }
+                    Some(Joint {
+                        kind: JointKind::Fixed {
+                            angle: t.f64_or("angle", 0.0, Num::any("rad").coordinate())?,
+                        },
+                        ..Joint::revolute(
+                            None,
+                            vec2(t.vec2("position", Some([0.0; 2]), "m")?),
+                            Vec2::zeros(),
+                        )
+                    })
+                }
+                (_, None, Some(_)) => {
+                    // Pinned: a revolute joint to the world point `pivot`.
+                    let pivot = vec2(t.vec2("pivot", Some([0.0; 2]), "m")?);
+                    Some(read_joint(t, name, None, pivot, &mut coordinates)?)
+                }
+                (_, Some(p), None) => {
+                    let parent = match names.find(p) {
+                        Some(i) if i < b => i,
+                        _ => return Err(parent_error(tables, b, p, names, &all, &parents)),
                     };
-                let coordinate_name = match t.opt_str("coordinate_name")? {
-                    Some(c) => c.to_string(),
-                    None => format!("theta_{name}"),
-                };
-                check_coordinate_name(t, &coordinate_name, &taken, &coordinates)?;
-                taken.insert(coordinate_name.clone());
-                coordinates.push(coordinate_name);
-                Some(Joint {
-                    parent,
-                    pivot_in_parent: vec2(t.vec2("pivot", Some([0.0; 2]), "m")?),
-                    com_in_child: vec2(t.vec2("com", Some([0.0; 2]), "m")?),
-                    coordinate,
-                    damping: t.f64_or("damping", 0.0, Num::non_negative("N m s/rad"))?,
-                })
-            }
-        };
-        if joint.is_none() && t.opt_str("coordinate_name")?.is_some() {
-            return Err(t.error_at_key(
-                "coordinate_name",
-                "the floating base's coordinates are always x, y, phi",
-            ));
-        }
+                    let pivot = vec2(t.vec2("pivot", Some([0.0; 2]), "m")?);
+                    Some(read_joint(t, name, Some(parent), pivot, &mut coordinates)?)
+                }
+            };
         t.finish()?;
         bodies.push(Body {
             name: name.to_string(),
@@ -334,7 +360,155 @@ pub(crate) fn read_bodies(
             joint,
         });
     }
-    Ok((bodies, coordinates))
+    Ok((bodies, coordinates.names))
+}
+
+/// The generalised coordinates' names, in order, and the names taken.
+#[derive(Default)]
+struct Coordinates {
+    names: Vec<String>,
+    taken: HashSet<String>,
+}
+
+impl Coordinates {
+    /// Adds `name` (checked: an identifier, unique), read from `coordinate_name` of `t`.
+    fn add(&mut self, t: &Table<'_>, name: String) -> Result<(), SceneError> {
+        check_coordinate_name(t, &name, &self.taken, &self.names)?;
+        self.taken.insert(name.clone());
+        self.names.push(name);
+        Ok(())
+    }
+
+    /// A floating base's three coordinates: `x, y, phi` for the first body, else suffixed
+    /// with the body's name.
+    fn floating(&mut self, t: &Table<'_>, b: usize, body: &str) -> Result<(), SceneError> {
+        if t.get("coordinate_name").is_some() {
+            return Err(t.error_at_key(
+                "coordinate_name",
+                if b == 0 {
+                    "the floating base's coordinates are always x, y, phi".to_string()
+                } else {
+                    format!(
+                        "a floating base's coordinates are always x_{body}, y_{body}, phi_{body}"
+                    )
+                },
+            ));
+        }
+        for axis in ["x", "y", "phi"] {
+            let name = if b == 0 {
+                axis.to_string()
+            } else {
+                format!("{axis}_{body}")
+            };
+            self.add(t, name)?;
+        }
+        Ok(())
+    }
+}
+
+/// A revolute or prismatic joint on `parent` (`None`: the world, a pinned base) at `pivot`,
+/// with its coordinate's name, damping, spring and limits (physics.md §7).
+fn read_joint(
+    t: &Table<'_>,
+    name: &str,
+    parent: Option<usize>,
+    pivot: Vec2,
+    coordinates: &mut Coordinates,
+) -> Result<Joint, SceneError> {
+    let kind = if parent.is_some() {
+        t.choice("joint", &["revolute", "prismatic"], Some("revolute"))?
+    } else {
+        t.choice("joint", &["revolute"], Some("revolute"))?
+    };
+    let prismatic = kind == "prismatic";
+    let (kind, unit, prefix) = if prismatic {
+        let axis = t.vec2("axis", None, "m").map_err(|e| match t.get("axis") {
+            None => t.error_at_key(
+                "joint",
+                "a prismatic joint needs 'axis = [x, y]', the direction (in the parent's \
+                 frame) along which the child slides",
+            ),
+            Some(_) => e,
+        })?;
+        let axis = vec2(axis);
+        let length = axis.norm();
+        if length <= 1e-9 {
+            return Err(t.error_at_key(
+                "axis",
+                "expected a non-zero direction [x, y] (it is scaled to unit length)",
+            ));
+        }
+        (
+            JointKind::Prismatic {
+                axis: axis / length,
+            },
+            ("m", "N s/m", "N/m"),
+            "s",
+        )
+    } else {
+        if t.get("axis").is_some() {
+            return Err(t.error_at_key("axis", "only a prismatic joint has an axis"));
+        }
+        (
+            JointKind::Revolute,
+            ("rad", "N m s/rad", "N m/rad"),
+            "theta",
+        )
+    };
+    let (position_unit, damping_unit, stiffness_unit) = unit;
+    let coordinate = if prismatic || parent.is_none() {
+        JointCoordinate::Relative
+    } else {
+        match t.choice("coordinate", &["relative", "absolute"], Some("relative"))? {
+            "absolute" => JointCoordinate::Absolute,
+            _ => JointCoordinate::Relative,
+        }
+    };
+    let coordinate_name = match t.opt_str("coordinate_name")? {
+        Some(c) => c.to_string(),
+        None => format!("{prefix}_{name}"),
+    };
+    coordinates.add(t, coordinate_name)?;
+    let limits = match t.opt_f64_list("limits", Some(2), Num::any(position_unit).coordinate())? {
+        None => {
+            if t.get("limit_restitution").is_some() {
+                return Err(t.error_at_key(
+                    "limit_restitution",
+                    "a joint without 'limits = [lower, upper]' has no stops to bounce on",
+                ));
+            }
+            None
+        }
+        Some(v) => {
+            if v[0] >= v[1] {
+                return Err(t.error_at_key(
+                    "limits",
+                    format!(
+                        "expected [lower, upper] with lower < upper in {position_unit}, found \
+                         lower = {}, upper = {}",
+                        number(v[0]),
+                        number(v[1])
+                    ),
+                ));
+            }
+            Some(JointLimits {
+                lower: v[0],
+                upper: v[1],
+                restitution: t.f64_or("limit_restitution", 0.0, Num::range(0.0, 1.0, ""))?,
+            })
+        }
+    };
+    Ok(Joint {
+        parent,
+        pivot_in_parent: pivot,
+        com_in_child: vec2(t.vec2("com", Some([0.0; 2]), "m")?),
+        coordinate,
+        kind,
+        damping: t.f64_or("damping", 0.0, Num::non_negative(damping_unit))?,
+        stiffness: t.f64_or("stiffness", 0.0, Num::non_negative(stiffness_unit))?,
+        rest_position: t.f64_or("rest_position", 0.0, Num::any(position_unit).coordinate())?,
+        limits,
+    })
 }
 
 /// A shape as the scene describes it, with its contact material and switchability.

@@ -4,7 +4,7 @@ use crate::bodies::{Names, ShapeSpec};
 use crate::error::{number, SceneError};
 use crate::reader::{Num, Table, MAX_MAGNITUDE};
 use hopsim_control::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig, Release};
-use hopsim_model::Body;
+use hopsim_model::{Body, JointKind};
 
 /// Default of `controller.rearm_timeout`, s.
 const DEFAULT_REARM_TIMEOUT: f64 = 1.0;
@@ -48,30 +48,40 @@ pub(crate) fn read_controller(
         &["passive", "momentum_impulse", "pulse"],
         Some("passive"),
     )?;
-    let jointed = |key: &'static str| -> Result<usize, SceneError> {
+    // The motor (and a brake) acts in a revolute joint; `to_body`: the parent must be a
+    // body (a brake locks two bodies), not the world.
+    let jointed = |key: &'static str, to_body: bool| -> Result<usize, SceneError> {
         let b = body_names.resolve(c, key)?;
-        if bodies[b].joint.is_none() {
-            return Err(c.error_at_key(
-                key,
-                format!(
-                    "'{}' is the floating base; the motor acts between a body and its parent",
-                    body_names.get(b)
-                ),
-            ));
+        let name = body_names.get(b);
+        let problem = match &bodies[b].joint {
+            None => Some(format!(
+                "'{name}' is a floating base; the motor acts between a body and its parent"
+            )),
+            Some(j) if j.kind != JointKind::Revolute => Some(format!(
+                "'{name}' is not on a revolute joint; this controller drives revolute joints only"
+            )),
+            Some(j) if to_body && j.parent.is_none() => Some(format!(
+                "'{name}' is pinned to the world; the flywheel's motor and brake act between \
+                 two bodies"
+            )),
+            Some(_) => None,
+        };
+        match problem {
+            Some(message) => Err(c.error_at_key(key, message)),
+            None => Ok(b),
         }
-        Ok(b)
     };
     let config = match kind {
         "passive" => ControllerConfig::Passive,
         "momentum_impulse" => ControllerConfig::MomentumImpulse(MomentumImpulseConfig {
-            flywheel: jointed("flywheel")?,
+            flywheel: jointed("flywheel", true)?,
             torque: c.f64("torque", Num::any("N m"))?,
             impulse_limit: c.f64("impulse_limit", Num::positive("N m s"))?,
             release: read_release(c)?,
             hold_brake: c.bool_or("hold_brake", false)?,
         }),
         _ => {
-            let joint_body = jointed("joint")?;
+            let joint_body = jointed("joint", false)?;
             let torque = c.f64("torque", Num::any("N m"))?;
             let pulse_duration = c.f64("pulse_duration", Num::positive("s"))?;
             let period = match (

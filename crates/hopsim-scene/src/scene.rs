@@ -191,8 +191,6 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
                     find(&spring_tables, spring).map(|i| &spring_tables[i])
                 }
                 ModelError::NonPositive { body, .. }
-                | ModelError::BaseWithJoint { body }
-                | ModelError::MissingJoint { body }
                 | ModelError::BadParent { body, .. }
                 | ModelError::BadJoint { body, .. } => {
                     body_names.find(body).map(|i| &body_tables[i])
@@ -261,9 +259,21 @@ fn read_initial(
     let rest = init.bool_or("rest_on_ground", false)?;
     let mut ws = Kinematics::new(model);
     if rest {
-        // Lower (or raise) the robot along y until its lowest active shape touches.
+        if model.bodies[0].joint.is_some() {
+            return Err(init.error_at_key(
+                "rest_on_ground",
+                format!(
+                    "the first body '{}' is not a floating base: there is no y to lower",
+                    model.bodies[0].name
+                ),
+            ));
+        }
+        // Lower (or raise) the first tree along y until its lowest active shape touches.
+        let first_tree = |c: usize| model.root(model.shapes[model.contacts[c].shape].body) == 0;
         for _ in 0..8 {
-            let Some((gap, normal_y, _)) = lowest_contact(model, shapes, &mut ws, &q, &u) else {
+            let Some((gap, normal_y, _)) =
+                lowest_contact(model, shapes, &mut ws, &q, &u, &first_tree)
+            else {
                 return Err(init.error_at_key(
                     "rest_on_ground",
                     "no active shape can touch the terrain below the robot",
@@ -275,14 +285,20 @@ fn read_initial(
             q[1] -= gap / normal_y;
         }
     }
-    if let Some((gap, _, contact)) = lowest_contact(model, shapes, &mut ws, &q, &u) {
+    if let Some((gap, _, contact)) = lowest_contact(model, shapes, &mut ws, &q, &u, &|_| true) {
         if gap < -PENETRATION_TOL {
             let shape = &model.shapes[model.contacts[contact].shape].name;
+            let fix = if model.root(model.shapes[model.contacts[contact].shape].body) == 0
+                && model.bodies[0].joint.is_none()
+            {
+                "raise y (q[1]) by at least that much or set rest_on_ground = true"
+            } else {
+                "move its body out of the terrain"
+            };
             return Err(init.error_at_key(
                 "q",
                 format!(
-                    "the shape '{shape}' starts {:.6e} m inside the terrain (contact '{}'); \
-                     raise y (q[1]) by at least that much or set rest_on_ground = true",
+                    "the shape '{shape}' starts {:.6e} m inside the terrain (contact '{}'); {fix}",
                     -gap, model.contacts[contact].name
                 ),
             ));
@@ -291,17 +307,19 @@ fn read_initial(
     Ok(State { t: 0.0, q, u })
 }
 
-/// The smallest gap over the contacts of non-switchable shapes at `q`: `(gap, n_y, contact)`.
+/// The smallest gap over the contacts of non-switchable shapes that `among` accepts, at
+/// `q`: `(gap, n_y, contact)`.
 fn lowest_contact(
     model: &Model,
     shapes: &[ShapeSpec],
     ws: &mut Kinematics,
     q: &DVector<f64>,
     u: &DVector<f64>,
+    among: &dyn Fn(usize) -> bool,
 ) -> Option<(f64, f64, usize)> {
     ws.update(model, q, u);
     (0..model.contacts.len())
-        .filter(|&i| !shapes[model.contacts[i].shape].switchable)
+        .filter(|&i| !shapes[model.contacts[i].shape].switchable && among(i))
         .filter_map(|i| {
             model
                 .contact_geometry(ws, i)

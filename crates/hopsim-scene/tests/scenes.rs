@@ -18,14 +18,121 @@ fn load(name: &str, overrides: &[&str]) -> Result<Scene, String> {
 #[test]
 fn every_bundled_scene_loads() {
     let mut count = 0;
-    for entry in std::fs::read_dir(repo("scenes")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            hopsim_scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
-            count += 1;
+    for dir in ["scenes", "scenes/classic"] {
+        for entry in std::fs::read_dir(repo(dir)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                hopsim_scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+                count += 1;
+            }
         }
     }
-    assert!(count >= 4, "{count} scenes");
+    assert!(count >= 6, "{count} scenes");
+}
+
+/// Several trees in one scene (physics.md §7): coordinates in body order, named by kind;
+/// a fixed base without mass; a pinned base's pivot in the world; a prismatic joint's axis
+/// scaled to unit length; joint springs and limits as written.
+#[test]
+fn several_trees_with_floating_pinned_and_fixed_bases() {
+    use hopsim_model::{JointKind, JointLimits, Vec2};
+    let text = r#"
+[simulation]
+duration = 1.0
+dt = 1e-3
+
+[[bodies]]
+name = "hip"
+mass = 1.0
+inertia = 0.01
+
+[[bodies]]
+name = "leg"
+parent = "hip"
+joint = "prismatic"
+axis = [0.0, -2.0]
+mass = 0.1
+inertia = 1e-4
+stiffness = 800.0
+rest_position = 0.4
+damping = 2.0
+limits = [0.2, 0.4]
+limit_restitution = 0.3
+
+[[bodies]]
+name = "wall"
+base = "fixed"
+position = [2.0, 0.5]
+angle = 0.1
+
+[[bodies]]
+name = "arm"
+base = "pinned"
+pivot = [1.0, 1.0]
+com = [0.0, -0.3]
+mass = 0.5
+inertia = 0.004
+
+[[bodies]]
+name = "puck"
+base = "floating"
+mass = 0.2
+inertia = 1e-3
+
+[[shapes]]
+body = "wall"
+type = "box"
+half_width = 0.1
+half_height = 0.5
+
+[initial]
+q = [0.0, 1.0, 0.0, 0.4, 0.2, 3.0, 1.0, 0.0]
+"#;
+    let scene = hopsim_scene::parse(text, Path::new("trees.toml"), &[]).unwrap();
+    assert_eq!(
+        scene.coordinates,
+        [
+            "x",
+            "y",
+            "phi",
+            "s_leg",
+            "theta_arm",
+            "x_puck",
+            "y_puck",
+            "phi_puck"
+        ]
+    );
+    let model = &scene.model;
+    assert_eq!(model.dof(), 8);
+    let leg = model.bodies[1].joint.as_ref().unwrap();
+    assert_eq!(
+        leg.kind,
+        JointKind::Prismatic {
+            axis: Vec2::new(0.0, -1.0)
+        }
+    );
+    assert_eq!(
+        (leg.stiffness, leg.rest_position, leg.damping),
+        (800.0, 0.4, 2.0)
+    );
+    assert_eq!(
+        leg.limits,
+        Some(JointLimits {
+            lower: 0.2,
+            upper: 0.4,
+            restitution: 0.3
+        })
+    );
+    assert!(model.bodies[2].is_fixed() && model.bodies[2].mass == 0.0);
+    let arm = model.bodies[3].joint.as_ref().unwrap();
+    assert_eq!(
+        (arm.parent, arm.pivot_in_parent),
+        (None, Vec2::new(1.0, 1.0))
+    );
+    assert_eq!(model.bodies[4].joint, None);
+    // The wall's box has no terrain contacts (it is fixed); the limits are two stops.
+    assert!(model.contacts.is_empty());
+    assert_eq!(model.limits.len(), 2);
 }
 
 #[test]

@@ -2,7 +2,8 @@
 
 use crate::{Observer, RunError, StepView};
 use hopsim_record::{
-    BodyInfo, BodyPose, ContactSample, EnergySample, Frame, RecorderSet, RecordingInfo,
+    BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecorderSet,
+    RecordingInfo,
 };
 use hopsim_scene::Scene;
 
@@ -44,6 +45,11 @@ pub struct RecordingObserver {
     contacts: Vec<ContactSample>,
     springs: Vec<([f64; 2], [f64; 2])>,
     shapes_active: Vec<bool>,
+    /// Per joint stop: whether it carried load in the previous step (a hit is a stop that
+    /// starts carrying load).
+    limit_loaded: Vec<bool>,
+    limit_loaded_now: Vec<bool>,
+    limit_events: Vec<Event>,
 }
 
 impl RecordingObserver {
@@ -60,6 +66,9 @@ impl RecordingObserver {
             contacts: Vec::new(),
             springs: Vec::new(),
             shapes_active: Vec::new(),
+            limit_loaded: vec![false; scene.model.limits.len()],
+            limit_loaded_now: vec![false; scene.model.limits.len()],
+            limit_events: Vec::new(),
         }
     }
 
@@ -82,8 +91,12 @@ impl Observer for RecordingObserver {
         for ev in view.events {
             self.recorders.event(ev)?;
         }
+        self.joint_limit_hits(view)?;
         let step = view.record.step;
-        if !step.is_multiple_of(self.every) && view.events.is_empty() {
+        if !step.is_multiple_of(self.every)
+            && view.events.is_empty()
+            && self.limit_events.is_empty()
+        {
             return Ok(());
         }
         self.frame(view)
@@ -98,6 +111,33 @@ impl Observer for RecordingObserver {
 }
 
 impl RecordingObserver {
+    /// Records a `joint_limit` event for every joint stop that starts carrying load in this
+    /// step (physics.md §7), with its percussion. A stop carries load when its percussion
+    /// exceeds `LIMIT_LOAD` (round-off of a stop held closed without load stays below).
+    fn joint_limit_hits(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        const LIMIT_LOAD: f64 = 1e-9;
+        self.limit_events.clear();
+        self.limit_loaded_now.fill(false);
+        for l in view.record.limits.iter().filter(|l| l.impulse > LIMIT_LOAD) {
+            self.limit_loaded_now[l.limit] = true;
+            if !self.limit_loaded[l.limit] {
+                self.limit_events.push(Event {
+                    t: view.record.t,
+                    step: view.record.step,
+                    kind: EventKind::JointLimit {
+                        limit: view.model.limits[l.limit].name.clone(),
+                        impulse: l.impulse,
+                    },
+                });
+            }
+        }
+        std::mem::swap(&mut self.limit_loaded, &mut self.limit_loaded_now);
+        for ev in &self.limit_events {
+            self.recorders.event(ev)?;
+        }
+        Ok(())
+    }
+
     /// Records the frame of `view`.
     fn frame(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
         let step = view.record.step;

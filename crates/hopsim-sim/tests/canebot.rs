@@ -118,7 +118,7 @@ impl JointModel {
             .joint
             .as_ref()
             .expect("the upper body hangs on the joint");
-        assert_eq!(joint.parent, 0);
+        assert_eq!(joint.parent, Some(0));
         let pivot = joint.pivot_in_parent;
         let springs = model
             .springs

@@ -43,17 +43,28 @@ impl Observer for Both<'_> {
     }
 }
 
-#[test]
-fn mcap_of_a_run_matches_the_simulation_records() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/robbit.toml");
-    let scene = hopsim_scene::load(&path, &[Override::new("simulation.duration", "2.0")]).unwrap();
+/// The bundled scene `name` run for `duration` seconds, and an observer recording it to
+/// `run.mcap` in a new temporary folder.
+fn mcap_run(
+    name: &str,
+    duration: &str,
+) -> (hopsim_scene::Scene, tempfile::TempDir, RecordingObserver) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}"));
+    let scene =
+        hopsim_scene::load(&path, &[Override::new("simulation.duration", duration)]).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("run.mcap");
     let mut set = RecorderSet::default();
     set.push(Box::new(
-        McapRecorder::create(&file, &recording_info(&scene)).unwrap(),
+        McapRecorder::create(&dir.path().join("run.mcap"), &recording_info(&scene)).unwrap(),
     ));
-    let mut recorder = RecordingObserver::new(set, &scene);
+    let recorder = RecordingObserver::new(set, &scene);
+    (scene, dir, recorder)
+}
+
+#[test]
+fn mcap_of_a_run_matches_the_simulation_records() {
+    let (scene, dir, mut recorder) = mcap_run("robbit.toml", "2.0");
+    let file = dir.path().join("run.mcap");
     let mut truth = Truth::default();
     hopsim_sim::run(
         &scene,
@@ -113,4 +124,52 @@ fn mcap_of_a_run_matches_the_simulation_records() {
         .iter()
         .any(|e| matches!(e.kind, hopsim_record::EventKind::Brake { .. })));
     assert_eq!(rec.events, truth.events);
+}
+
+/// The pendulum on a joint stop (docs/classics.md §3) records one `joint_limit` event per
+/// hit of its stop, in the step the stop starts carrying load, with that step's percussion;
+/// the first is `I_O (1 + ε) |ω⁻|` (ε = 0.5, `ω⁻` from energy: 2.7124712 N m s).
+#[test]
+fn mcap_records_every_joint_stop_hit_with_its_impulse() {
+    let (scene, dir, mut recorder) = mcap_run("classic/pendulum-stop.toml", "2.5");
+    let file = dir.path().join("run.mcap");
+    /// Steps where the stop's percussion rises from nothing, with that percussion.
+    #[derive(Default)]
+    struct Hits {
+        loaded: bool,
+        hits: Vec<(u64, f64)>,
+    }
+    impl Observer for Hits {
+        fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+            let impulse: f64 = v.record.limits.iter().map(|l| l.impulse).sum();
+            let loaded = impulse > 1e-9;
+            if loaded && !self.loaded {
+                self.hits.push((v.record.step, impulse));
+            }
+            self.loaded = loaded;
+            Ok(())
+        }
+    }
+    let mut hits = Hits::default();
+    hopsim_sim::run(&scene, &mut (&mut recorder, &mut hits)).unwrap();
+    recorder.finish().unwrap();
+    let rec = McapRecording::read(&file).unwrap();
+    let recorded: Vec<(u64, f64)> = rec
+        .events
+        .iter()
+        .filter_map(|e| match &e.kind {
+            hopsim_record::EventKind::JointLimit { limit, impulse } => {
+                assert_eq!(limit, "rod/lower");
+                Some((e.step, *impulse))
+            }
+            _ => None,
+        })
+        .collect();
+    assert!(hits.hits.len() >= 3, "{:?}", hits.hits);
+    assert_eq!(recorded, hits.hits);
+    let expected = (1.0 / 3.0) * 1.5 * (2.0 * 14.715f64).sqrt();
+    assert!((recorded[0].1 - expected).abs() < 1e-6, "{recorded:?}");
+    // Every event step is a recorded frame.
+    let steps: std::collections::BTreeSet<u64> = rec.states.iter().map(|s| s.step).collect();
+    assert!(recorded.iter().all(|(k, _)| steps.contains(k)));
 }

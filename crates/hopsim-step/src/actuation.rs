@@ -14,6 +14,17 @@ pub struct TorqueCommand {
     pub torque: f64,
 }
 
+/// A generalised force in the joint of `body` (a joint motor, physics.md §7): a torque on
+/// `body` with its reaction on the parent (revolute, N m), or a force along the axis with
+/// its reaction on the parent (prismatic, N).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointForceCommand {
+    /// The body on the joint.
+    pub body: usize,
+    /// Torque (N m) or force (N) along the joint's coordinate.
+    pub force: f64,
+}
+
 /// An impulse applied within the step (physics.md §3, [2.22]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ImpulseCommand {
@@ -38,6 +49,8 @@ pub enum ImpulseCommand {
 pub struct Actuation {
     /// Torques held over the step.
     pub torques: Vec<TorqueCommand>,
+    /// Joint forces and torques held over the step.
+    pub joint_forces: Vec<JointForceCommand>,
     /// Impulses applied inside the step.
     pub impulses: Vec<ImpulseCommand>,
     /// Bodies whose relative rotation is locked inelastically in this step (a brake):
@@ -49,6 +62,7 @@ impl Actuation {
     /// Removes every command, keeping the buffers.
     pub fn clear(&mut self) {
         self.torques.clear();
+        self.joint_forces.clear();
         self.impulses.clear();
         self.locks.clear();
     }

@@ -13,8 +13,10 @@ mod state;
 mod stepper;
 mod trace;
 
-pub use actuation::{Actuation, ImpulseCommand, TorqueCommand};
-pub use record::{ContactRecord, ContactState, EnergyLedger, LcpStats, LockRecord, StepRecord};
+pub use actuation::{Actuation, ImpulseCommand, JointForceCommand, TorqueCommand};
+pub use record::{
+    ContactRecord, ContactState, EnergyLedger, LcpStats, LimitRecord, LockRecord, StepRecord,
+};
 pub use state::State;
 pub use stepper::{StepError, StepSettings, Stepper};
 pub use trace::{

@@ -56,10 +56,27 @@ pub struct LockRecord {
     pub impulse: f64,
 }
 
+/// One closed joint stop of a step (`g(q^M) ≤ 0`, physics.md §7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LimitRecord {
+    /// Index into the model's joint stops (`Model::limits`).
+    pub limit: usize,
+    /// The body whose joint it limits.
+    pub body: usize,
+    /// Gap at the midpoint `g(q^M)`, rad or m (≤ 0).
+    pub gap: f64,
+    /// `γ^A = wᵀ u^A`, the stop's opening velocity at the start of the step, rad/s or m/s.
+    pub velocity_before: f64,
+    /// `γ^E = wᵀ u^E` at the end of the step.
+    pub velocity_after: f64,
+    /// Percussion `Λ_J` (≥ 0), N m s or N s.
+    pub impulse: f64,
+}
+
 /// Running energy account of a simulation (physics.md §6), J.
 ///
-/// `kinetic + potential + spring - initial = actuator_work + contact_work + lock_work +
-/// damping_work + balance_error`, the works being those of the step impulses over the
+/// `kinetic + potential + spring - initial = actuator_work + contact_work + limit_work +
+/// lock_work + damping_work + balance_error`, the works being those of the step impulses over the
 /// step's mean velocity `(u^A + u^E)/2`; the error is the midpoint scheme's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
@@ -75,6 +92,8 @@ pub struct EnergyLedger {
     pub actuator_work: f64,
     /// Cumulative work of contact percussions (≤ 0 for passive contacts).
     pub contact_work: f64,
+    /// Cumulative work of joint-stop percussions (≤ 0 for `ε ≤ 1`).
+    pub limit_work: f64,
     /// Cumulative work of velocity locks such as brakes (≤ 0).
     pub lock_work: f64,
     /// Cumulative work of joint and spring damping (≤ 0).
@@ -87,9 +106,10 @@ impl EnergyLedger {
         self.kinetic + self.potential + self.spring
     }
 
-    /// Energy dissipated so far by impacts, friction, locks and damping (≥ 0 when passive).
+    /// Energy dissipated so far by impacts, friction, joint stops, locks and damping (≥ 0
+    /// when passive).
     pub fn dissipated(&self) -> f64 {
-        -(self.contact_work + self.lock_work + self.damping_work)
+        -(self.contact_work + self.limit_work + self.lock_work + self.damping_work)
     }
 
     /// What the account fails to explain: `ΔE - W_actuators + dissipated`.
@@ -120,6 +140,8 @@ pub struct StepRecord {
     pub t: f64,
     /// The contacts of the index set.
     pub contacts: Vec<ContactRecord>,
+    /// The closed joint stops of the step.
+    pub limits: Vec<LimitRecord>,
     /// The velocity locks (brakes) of this step with their impulses, in the order of
     /// [`crate::Actuation::locks`].
     pub locks: Vec<LockRecord>,
@@ -145,6 +167,7 @@ impl Default for StepRecord {
             step: 0,
             t: 0.0,
             contacts: Vec::new(),
+            limits: Vec::new(),
             locks: Vec::new(),
             energy: EnergyLedger::default(),
             lcp_pivots: 0,

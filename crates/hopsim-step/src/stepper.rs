@@ -3,8 +3,8 @@
 
 use crate::linalg::{axpy, dot, Factor};
 use crate::{
-    Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LockRecord,
-    State, StepRecord,
+    Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LimitRecord,
+    LockRecord, State, StepRecord,
 };
 use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver};
 use hopsim_model::{ContactGeometry, Kinematics, Model};
@@ -147,6 +147,13 @@ pub struct Stepper {
     lambda_t: Vec<f64>,
     /// `ξ_T` of each closed contact (NaN after the frictionless fallback, until `u^E`).
     slip: Vec<f64>,
+    /// Closed joint stops (physics.md §7): their indices into `Model::limits`, gaps, rows
+    /// `w = ±∂s/∂q` (row-major `l × n`), `γ^A = wᵀ u^A` and percussions.
+    active_limits: Vec<usize>,
+    limit_gap: Vec<f64>,
+    w_limit: Vec<f64>,
+    gamma_limit: Vec<f64>,
+    lambda_limit: Vec<f64>,
     lcp_a: DMatrix<f64>,
     lcp_b: DVector<f64>,
     lcp: LemkeSolver,
@@ -159,12 +166,13 @@ impl Stepper {
     pub fn new(model: &Model, settings: StepSettings) -> Self {
         let n = model.dof();
         let k = model.contacts.len();
+        let limits = model.limits.len();
         let locks = model.bodies.len();
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
         let kinematics = Kinematics::new(model);
         let diagonal = kinematics.mass_matrix_is_diagonal();
-        lcp.reserve(3 * k);
+        lcp.reserve(3 * k + limits);
         Self {
             lcp,
             settings,
@@ -179,7 +187,7 @@ impl Stepper {
             applied: vector(n),
             impulse: vector(n),
             force: vector(n),
-            solved: vector((2 * k + 1) * n),
+            solved: vector((2 * k + limits + 1) * n),
             u_tilde: vector(n),
             q_mid: vector(n),
             u_start: vector(n),
@@ -203,10 +211,16 @@ impl Stepper {
             lambda_n: vector(k),
             lambda_t: vector(k),
             slip: vector(k),
-            lcp_a: DMatrix::zeros(3 * k, 3 * k),
-            lcp_b: DVector::zeros(3 * k),
+            active_limits: Vec::with_capacity(limits),
+            limit_gap: vector(limits),
+            w_limit: vector(limits * n),
+            gamma_limit: vector(limits),
+            lambda_limit: vector(limits),
+            lcp_a: DMatrix::zeros(3 * k + limits, 3 * k + limits),
+            lcp_b: DVector::zeros(3 * k + limits),
             record: StepRecord {
                 contacts: Vec::with_capacity(k),
+                limits: Vec::with_capacity(limits),
                 locks: Vec::with_capacity(locks),
                 ..StepRecord::default()
             },
@@ -254,6 +268,7 @@ impl Stepper {
         self.record.t = state.t;
         self.t_start = state.t;
         self.record.contacts.clear();
+        self.record.limits.clear();
         self.record.locks.clear();
         self.record.energy = energy;
         self.record.lcp_pivots = 0;
@@ -370,6 +385,9 @@ impl Stepper {
                 &mut self.applied,
             );
         }
+        for force in &actuation.joint_forces {
+            model.add_joint_force_to(&self.kinematics, force.body, force.force, &mut self.applied);
+        }
         model.forces_split(
             &self.kinematics,
             &self.applied,
@@ -422,8 +440,9 @@ impl Stepper {
     }
 
     /// Stage 4, physics.md §4.1 step 2: the index set `H` (enabled contacts with
-    /// `g_N(q^M) ≤ 0`) with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`; returns its
-    /// size `k`.
+    /// `g_N(q^M) ≤ 0`) with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`, and the closed
+    /// joint stops (`g(q^M) ≤ 0`, §7) with their rows `w = ±∂s/∂q` and `γ^A`; returns the
+    /// number `k` of closed contacts.
     fn index_set(&mut self, model: &Model) -> usize {
         let n = self.n;
         self.active.clear();
@@ -452,11 +471,25 @@ impl Stepper {
             self.active.push(i);
             self.geometry.push(geom);
         }
+        self.active_limits.clear();
+        for (j, limit) in model.limits.iter().enumerate() {
+            let gap = limit.gap(self.kinematics.joint_position(limit.body));
+            if gap > 0.0 {
+                continue;
+            }
+            let r = self.active_limits.len();
+            let w = &mut self.w_limit[r * n..(r + 1) * n];
+            w.fill(0.0);
+            model.add_joint_force_to(&self.kinematics, limit.body, limit.sign(), w);
+            self.gamma_limit[r] = dot(w, &self.u_start);
+            self.limit_gap[r] = gap;
+            self.active_limits.push(j);
+        }
         self.active.len()
     }
 
     /// Stage 5, physics.md §4.3 and §4.4: `ũ = u^A + G (h Δt + impulses)` and `G W_N`,
-    /// `G W_T` of the `k` closed contacts in one solve with `M`'s factor, then projected
+    /// `G W_T` of the `k` closed contacts (and `G w` of the closed joint stops) in one solve with `M`'s factor, then projected
     /// onto the locks (`G ← G − G B (Bᵀ G B)⁻¹ Bᵀ G`, `ũ` likewise).
     #[inline]
     fn free_velocity(&mut self, k: usize) {
@@ -464,12 +497,15 @@ impl Stepper {
         for ((f, h), p) in self.force.iter_mut().zip(&self.h).zip(&self.impulse) {
             *f = h * dt + p;
         }
-        let solved = &mut self.solved[..(2 * k + 1) * n];
+        let l = self.active_limits.len();
+        let solved = &mut self.solved[..(2 * k + l + 1) * n];
         let (first, rest) = solved.split_at_mut(n);
         first.copy_from_slice(&self.force);
-        let (normals, tangents) = rest.split_at_mut(k * n);
+        let (normals, rest) = rest.split_at_mut(k * n);
+        let (tangents, limits) = rest.split_at_mut(k * n);
         normals.copy_from_slice(&self.w_n[..k * n]);
         tangents.copy_from_slice(&self.w_t[..k * n]);
+        limits.copy_from_slice(&self.w_limit[..l * n]);
         self.factor.solve(solved);
         for row in solved[n..].chunks_exact_mut(n) {
             self.locks.project(row);
@@ -494,10 +530,11 @@ impl Stepper {
         self.record.lcp_failed = false;
         let n = self.n;
         let k = self.active.len();
-        if k == 0 {
+        let l = self.active_limits.len();
+        if k + l == 0 {
             return Ok(());
         }
-        let size = 3 * k;
+        let size = 3 * k + l;
         // A (column-major, leading dimension `ld`) and b of physics.md §4.3.
         let ld = self.lcp_a.nrows();
         let a = self.lcp_a.as_mut_slice();
@@ -527,6 +564,9 @@ impl Stepper {
             b[k + r] = dot(w_t, &self.u_tilde) + mat_r.restitution_tangent * self.gamma_t[r];
             b[2 * k + r] = 0.0;
         }
+        if l > 0 {
+            self.limit_rows(model, k, l);
+        }
         let solution = self
             .lcp
             .solve(
@@ -555,6 +595,9 @@ impl Stepper {
                 self.lambda_t[c] = (solution.z[k + c] - mu * solution.z[c]).clamp(-limit, limit);
                 self.slip[c] = solution.w[k + c] - solution.z[2 * k + c];
             }
+            for r in 0..l {
+                self.lambda_limit[r] = solution.z[3 * k + r].max(0.0);
+            }
             return Ok(());
         }
         self.stats.failures += 1;
@@ -571,19 +614,67 @@ impl Stepper {
         self.solve_frictionless_lcp(k, step, t)
     }
 
+    /// The rows and columns of the `l` closed joint stops in the LCP of §4.3 (physics.md
+    /// §7): unknowns `Λ_J` after `(Λ_N, Λ_R, ξ_L)`, frictionless normal rows
+    /// `ξ_J = w_Jᵀ u^E + ε γ_J^A ⟂ Λ_J`, with `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)`.
+    fn limit_rows(&mut self, model: &Model, k: usize, l: usize) {
+        let n = self.n;
+        let ld = self.lcp_a.nrows();
+        let a = self.lcp_a.as_mut_slice();
+        let b = self.lcp_b.as_mut_slice();
+        let off = 3 * k;
+        for r in 0..l {
+            let w_j = row(&self.w_limit, n, r);
+            let gw_j = row(&self.solved, n, 1 + 2 * k + r);
+            for c in 0..k {
+                let mu_c = model.contacts[self.active[c]].material.friction;
+                let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
+                // The stop's row: Λ_T = Λ_R − μ Λ_N enters through the Λ_N and Λ_R columns.
+                let g_jt = dot(w_j, gw_t);
+                a[c * ld + off + r] = dot(w_j, gw_n) - g_jt * mu_c;
+                a[(k + c) * ld + off + r] = g_jt;
+                // The stop's column in the contacts' normal and tangential rows.
+                a[(off + r) * ld + c] = dot(row(&self.w_n, n, c), gw_j);
+                a[(off + r) * ld + k + c] = dot(row(&self.w_t, n, c), gw_j);
+            }
+            for c in 0..l {
+                a[(off + c) * ld + off + r] = dot(w_j, row(&self.solved, n, 1 + 2 * k + c));
+            }
+            let restitution = model.limits[self.active_limits[r]].restitution;
+            b[off + r] = dot(w_j, &self.u_tilde) + restitution * self.gamma_limit[r];
+        }
+    }
+
     /// Fallback after an uncertified frictional solve (see [`Stepper`]): the normal-contact
     /// LCP `(W_Nᵀ G W_N) Λ_N + W_Nᵀ ũ + ε_N γ_N^A ⟂ Λ_N` with friction dropped for this step.
     fn solve_frictionless_lcp(&mut self, k: usize, step: u64, t: f64) -> Result<(), StepError> {
         let n = self.n;
-        for r in 0..k {
-            for c in 0..k {
-                self.lcp_a[(r, c)] =
-                    dot(&self.w_n[r * n..(r + 1) * n], row(&self.solved, n, 1 + c));
+        let l = self.active_limits.len();
+        // Normal-type rows: the contacts' `w_N`, then the stops' `w_J`; `G w` of each.
+        let normal = |i: usize| {
+            if i < k {
+                (row(&self.w_n, n, i), row(&self.solved, n, 1 + i))
+            } else {
+                (
+                    row(&self.w_limit, n, i - k),
+                    row(&self.solved, n, 1 + k + i),
+                )
+            }
+        };
+        for r in 0..k + l {
+            for c in 0..k + l {
+                self.lcp_a[(r, c)] = dot(normal(r).0, normal(c).1);
             }
         }
+        // The stops' right-hand sides follow the contacts' normal ones.
+        self.lcp_b.as_mut_slice().copy_within(3 * k..3 * k + l, k);
+        let size = k + l;
         let solution = self
             .lcp
-            .solve(self.lcp_a.view((0, 0), (k, k)), self.lcp_b.rows(0, k))
+            .solve(
+                self.lcp_a.view((0, 0), (size, size)),
+                self.lcp_b.rows(0, size),
+            )
             .map_err(|_| StepError::NonFinite {
                 step,
                 t,
@@ -594,7 +685,7 @@ impl Stepper {
             return Err(StepError::Lcp {
                 step,
                 t,
-                size: k,
+                size,
                 contacts: k,
                 status: solution.status.as_str(),
             });
@@ -604,11 +695,14 @@ impl Stepper {
             self.lambda_t[c] = 0.0;
             self.slip[c] = f64::NAN;
         }
+        for r in 0..l {
+            self.lambda_limit[r] = solution.z[k + r].max(0.0);
+        }
         Ok(())
     }
 
-    /// Stage 7, physics.md §4.1 step 4: `u^E = ũ + G (W_N Λ_N + W_T Λ_T)` and the records of
-    /// the `k` closed contacts.
+    /// Stage 7, physics.md §4.1 step 4: `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)` and the
+    /// records of the `k` closed contacts and the closed joint stops.
     #[inline]
     fn end_velocity(&mut self, model: &Model, k: usize) {
         let n = self.n;
@@ -625,9 +719,29 @@ impl Stepper {
                 &mut self.u_end,
             );
         }
+        let l = self.active_limits.len();
+        for r in 0..l {
+            axpy(
+                self.lambda_limit[r],
+                row(&self.solved, n, 1 + 2 * k + r),
+                &mut self.u_end,
+            );
+        }
         self.record.contacts.clear();
         if k > 0 {
             self.fill_contact_records(model, k);
+        }
+        self.record.limits.clear();
+        for r in 0..l {
+            let j = self.active_limits[r];
+            self.record.limits.push(LimitRecord {
+                limit: j,
+                body: model.limits[j].body,
+                gap: self.limit_gap[r],
+                velocity_before: self.gamma_limit[r],
+                velocity_after: dot(row(&self.w_limit, n, r), &self.u_end),
+                impulse: self.lambda_limit[r],
+            });
         }
     }
 
@@ -733,6 +847,10 @@ impl Stepper {
             energy.contact_work += self.lambda_n[c] * dot(&self.w_n[rows.clone()], mean)
                 + self.lambda_t[c] * dot(&self.w_t[rows], mean);
         }
+        let l = self.active_limits.len();
+        for r in 0..l {
+            energy.limit_work += self.lambda_limit[r] * dot(row(&self.w_limit, n, r), mean);
+        }
         self.record.locks.clear();
         let locks = actuation.locks.len();
         if locks > 0 {
@@ -746,6 +864,9 @@ impl Stepper {
                 for c in 0..k {
                     rhs -= self.w_n[c * n + i] * self.lambda_n[c]
                         + self.w_t[c * n + i] * self.lambda_t[c];
+                }
+                for r in 0..l {
+                    rhs -= self.w_limit[r * n + i] * self.lambda_limit[r];
                 }
                 self.force[i] = rhs;
             }

@@ -235,11 +235,8 @@ fn two_body_point_impulse_with_offset_pivot() {
         mass: m1,
         inertia: i1,
         joint: Some(Joint {
-            parent: 0,
-            pivot_in_parent: pivot,
-            com_in_child: Vec2::zeros(),
             coordinate: JointCoordinate::Absolute,
-            damping: 0.0,
+            ..Joint::revolute(Some(0), pivot, Vec2::zeros())
         }),
     };
     let model = Model::new(

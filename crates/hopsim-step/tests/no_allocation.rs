@@ -180,3 +180,62 @@ fn stepping_robbit_with_contacts_torque_and_a_brake_does_not_allocate() {
         after - before
     );
 }
+
+/// A point-foot hopper on a sprung prismatic leg with a stop (physics.md §7): touchdowns,
+/// stance and the stop's impacts at lift-off in the same LCP allocate nothing.
+#[test]
+fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
+    use hopsim_model::{Body, Joint, JointKind, JointLimits, ShapeInstance};
+    let leg = Joint {
+        kind: JointKind::Prismatic {
+            axis: Vec2::new(0.0, -1.0),
+        },
+        stiffness: 1000.0,
+        rest_position: 0.5,
+        limits: Some(JointLimits {
+            lower: 0.1,
+            upper: 0.5,
+            restitution: 0.0,
+        }),
+        ..Joint::revolute(Some(0), Vec2::zeros(), Vec2::zeros())
+    };
+    let model = Model::new(
+        vec![
+            Body::base("body", 1.0, 0.01),
+            Body {
+                name: "foot".into(),
+                mass: 0.01,
+                inertia: 1e-6,
+                joint: Some(leg),
+            },
+        ],
+        vec![ShapeInstance {
+            name: "foot".into(),
+            body: 1,
+            shape: Shape::Point {
+                position: Vec2::zeros(),
+            },
+        }],
+        Terrain::flat(0.0),
+        vec![],
+        Vec2::new(0.0, -9.81),
+        common::material(1.0, 0.0),
+    )
+    .unwrap();
+    let state = common::state(&[0.0, 0.6, 0.0, 0.5], &[0.3, 0.0, 0.0, 0.0]);
+    let mut stepper = common::stepper(&model, 1e-4);
+    let mut s = state.clone();
+    stepper.start(&model, &s);
+    let act = Actuation::default();
+    let (mut contacts, mut stops) = (false, false);
+    let count = allocations(2000, 6000, |_| {
+        let rec = stepper.step(&model, &mut s, &act).unwrap();
+        contacts |= rec.contacts.iter().any(|c| c.impulse_normal > 0.0);
+        stops |= rec.limits.iter().any(|l| l.impulse > 1e-6);
+    });
+    assert_eq!(count, 0);
+    assert!(
+        contacts && stops,
+        "contacts {contacts}, stop impacts {stops}"
+    );
+}

@@ -190,7 +190,7 @@ pub fn balanced_rotors(model: &Model) -> Vec<usize> {
             let parent = model
                 .bodies
                 .iter()
-                .any(|c| c.joint.as_ref().is_some_and(|j| j.parent == b));
+                .any(|c| c.joint.as_ref().is_some_and(|j| j.parent == Some(b)));
             balanced && !shaped && !sprung && !parent
         })
         .map(|b| b + 2)

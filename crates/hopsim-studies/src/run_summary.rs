@@ -79,7 +79,7 @@ pub fn robbit_cube(scene: &Scene) -> Option<Cube> {
         return None;
     };
     let model = &scene.model;
-    let disc = model.bodies[c.flywheel].joint.as_ref()?.parent;
+    let disc = model.bodies[c.flywheel].joint.as_ref()?.parent?;
     let (radius, eccentricity) = model.shapes.iter().find_map(|s| match s.shape {
         Shape::Circle { center, radius } if s.body == disc => Some((radius, center.norm())),
         _ => None,

@@ -115,11 +115,9 @@ pub fn two_body_hopper(mu: f64) -> Model {
         mass: 0.8,
         inertia: 0.006,
         joint: Some(Joint {
-            parent: 0,
-            pivot_in_parent: Vec2::new(0.0, -0.08),
-            com_in_child: Vec2::new(0.01, -0.06),
             coordinate: JointCoordinate::Relative,
             damping: 0.01,
+            ..Joint::revolute(Some(0), Vec2::new(0.0, -0.08), Vec2::new(0.01, -0.06))
         }),
     };
     let half = std::f64::consts::FRAC_PI_2;
