@@ -449,6 +449,17 @@ fn unreasonable_numbers_are_refused_with_the_option_named() {
                 "sweep",
                 "scenes/robbit.toml",
                 "--grid",
+                "controller.torque=0.3,0.4",
+                "--baseline",
+                "b:nosuch=1",
+            ],
+            "--baseline (nosuch=1)",
+        ),
+        (
+            &[
+                "sweep",
+                "scenes/robbit.toml",
+                "--grid",
                 "controller.torque=0.1:0.3:1000",
                 "--grid",
                 "controller.impulse_limit=0.04:0.07:1000",

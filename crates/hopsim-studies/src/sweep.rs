@@ -90,10 +90,14 @@ impl std::str::FromStr for SweepBaseline {
             .split_once(':')
             .filter(|(n, _)| !n.trim().is_empty())
             .ok_or_else(|| format!("'{s}': expected NAME:KEY=VALUE[,KEY=VALUE…]"))?;
+        // Errors in these overrides name the --baseline option, not --set.
         let overrides = rest
             .split(',')
-            .map(str::parse)
-            .collect::<Result<Vec<Override>, _>>()?;
+            .map(|text| {
+                let o: Override = text.parse()?;
+                Ok(Override::from_flag("--baseline", o.key, o.value))
+            })
+            .collect::<Result<Vec<Override>, String>>()?;
         Ok(Self {
             name: name.trim().to_string(),
             overrides,
