@@ -4,6 +4,7 @@
 //! against the cube baseline [5.21] for `ε = 0` and for the restitution `ε_eq` whose cube
 //! passes through the most stable decile of the runs.
 
+use super::summary::SectionControl;
 use crate::plot::{viridis, LinePlot, RGBColor, Series, SeriesStyle};
 use crate::progress::Progress;
 use crate::report::{num, ReportFile, Table};
@@ -31,15 +32,8 @@ pub const FITTED_SHARE: f64 = 0.1;
 /// One fixed point run from rest.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GaitRun {
-    pub takeoff_angle_rad: f64,
-    #[serde(rename = "takeoff_energy_J")]
-    pub takeoff_energy: f64,
-    /// `T*` [N m].
-    #[serde(rename = "torque_Nm")]
-    pub torque: f64,
-    /// `ζ0*` [N m s].
-    #[serde(rename = "impulse_limit_Nms")]
-    pub impulse_limit: f64,
+    #[serde(flatten)]
+    pub point: SectionControl,
     /// Spectral radius of the return-map Jacobian at `β*`.
     pub max_abs_eigenvalue: f64,
     pub stable: bool,
@@ -178,10 +172,7 @@ pub fn simulate_fixed_points(
 fn run_from_rest(p: &RobbitParams, g: &GridPoint, settings: &StepperSettings) -> GaitRun {
     let fp = g.fixed_point.as_ref().expect("a fixed point");
     let mut row = GaitRun {
-        takeoff_angle_rad: g.angle,
-        takeoff_energy: g.energy,
-        torque: fp.control.torque,
-        impulse_limit: fp.control.impulse_limit,
+        point: SectionControl::of(p, fp),
         max_abs_eigenvalue: fp.spectral_radius,
         stable: fp.stable,
         mean_speed_mps: None,
@@ -223,10 +214,10 @@ impl FixedPointGaits {
         ]);
         for r in &self.runs {
             t.push(vec![
-                r.takeoff_angle_rad.into(),
-                r.takeoff_energy.into(),
-                r.torque.into(),
-                r.impulse_limit.into(),
+                r.point.takeoff_angle_rad.into(),
+                r.point.takeoff_energy.into(),
+                r.point.torque.into(),
+                r.point.impulse_limit.into(),
                 r.max_abs_eigenvalue.into(),
                 r.stable.into(),
                 r.mean_speed_mps.into(),
@@ -362,10 +353,12 @@ mod tests {
 
     fn run(max_abs_eigenvalue: f64, speed: Option<f64>) -> GaitRun {
         GaitRun {
-            takeoff_angle_rad: -0.5,
-            takeoff_energy: 0.05,
-            torque: 0.3,
-            impulse_limit: 0.05,
+            point: SectionControl {
+                takeoff_angle_rad: -0.5,
+                takeoff_energy: 0.05,
+                torque: 0.3,
+                impulse_limit: 0.05,
+            },
             max_abs_eigenvalue,
             stable: max_abs_eigenvalue < 1.0,
             mean_speed_mps: speed,

@@ -225,10 +225,9 @@ pub struct TakeoffError {
     pub rate_error_rad_s: f64,
 }
 
-/// The time-stepper from rest with a stable `β*` against the predicted gait
-/// ([`crate::robbit_gait`]).
-#[derive(Clone, Debug, Serialize)]
-pub struct GaitCheck {
+/// A section state `(φ_TO, E_TO)` and its fixed-point control `β* = (T*, ζ0*)`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SectionControl {
     pub takeoff_angle_rad: f64,
     /// [J].
     #[serde(rename = "takeoff_energy_J")]
@@ -239,6 +238,26 @@ pub struct GaitCheck {
     /// `ζ0*` [N m s].
     #[serde(rename = "impulse_limit_Nms")]
     pub impulse_limit: f64,
+}
+
+impl SectionControl {
+    /// The section state of `fp` (robot `p`) and its control.
+    pub fn of(p: &RobbitParams, fp: &FixedPoint) -> Self {
+        SectionControl {
+            takeoff_angle_rad: fp.state.angle,
+            takeoff_energy: fp.state.energy(p),
+            torque: fp.control.torque,
+            impulse_limit: fp.control.impulse_limit,
+        }
+    }
+}
+
+/// The time-stepper from rest with a stable `β*` against the predicted gait
+/// ([`crate::robbit_gait`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct GaitCheck {
+    #[serde(flatten)]
+    pub point: SectionControl,
     pub dt_s: f64,
     pub duration_s: f64,
     /// Brakes in the run.
@@ -276,10 +295,7 @@ impl GaitCheck {
         let c = convergence;
         let last = run.brakes.last().map(|b| b.state);
         GaitCheck {
-            takeoff_angle_rad: fp.state.angle,
-            takeoff_energy: fp.state.energy(p),
-            torque: fp.control.torque,
-            impulse_limit: fp.control.impulse_limit,
+            point: SectionControl::of(p, fp),
             dt_s: run.settings.dt,
             duration_s: run.settings.duration,
             brakes: run.brakes.len(),

@@ -51,7 +51,10 @@ fn gait_check_table(check: &GaitCheck) -> Table {
         "time-stepper from rest (Δt = {} s, {} s, {} brakes) vs predicted gait",
         check.dt_s, check.duration_s, check.brakes
     ));
-    t.row("β* = (T*, ζ0*)", control(check.torque, check.impulse_limit));
+    t.row(
+        "β* = (T*, ζ0*)",
+        control(check.point.torque, check.point.impulse_limit),
+    );
     let (predicted, simulated) = (&check.predicted, &check.simulated);
     let compared = (
         check.window,
