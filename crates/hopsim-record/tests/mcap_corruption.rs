@@ -11,6 +11,8 @@ use hopsim_record::{
     diff_run_files, McapRecorder, McapRecording, RecordError, Recorder, RunDiffOptions,
     METADATA_NAME,
 };
+use proptest::prelude::any;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
@@ -194,15 +196,29 @@ fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
         .unwrap_or(default)
 }
 
+/// Runs `case` on the seeds proptest draws (`PROPTEST_CASES` of them, 256 by default)
+/// from a runner seeded with `HOPSIM_FUZZ_SEED`, so that every run of the suite tries the
+/// same cases; each seed drives its own generator. A panicking case fails the test with
+/// its seed.
+fn for_each_seed(case: impl Fn(u64)) {
+    let seed: u64 = env_or("HOPSIM_FUZZ_SEED", 7);
+    let mut key = [0u8; 32];
+    key[..8].copy_from_slice(&seed.to_le_bytes());
+    let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &key);
+    let mut runner = TestRunner::new_with_rng(Config::default(), rng);
+    if let Err(e) = runner.run(&any::<u64>(), |s| {
+        case(s);
+        Ok(())
+    }) {
+        panic!("HOPSIM_FUZZ_SEED={seed}: {e}");
+    }
+}
+
 #[test]
 fn damaged_recordings_never_panic_the_reader() {
     let good = recording();
-    let (cases, seed) = (
-        env_or("PROPTEST_CASES", 256usize),
-        env_or("HOPSIM_FUZZ_SEED", 7u64),
-    );
-    for k in 0..cases {
-        let mut rng = Rng(seed ^ (k as u64).wrapping_mul(0xa076_1d64_78bd_642f));
+    for_each_seed(|k| {
+        let mut rng = Rng(k);
         let mut bytes = good.clone();
         let mut edits = Vec::new();
         for _ in 0..1 + rng.below(4) {
@@ -239,13 +255,13 @@ fn damaged_recordings_never_panic_the_reader() {
             McapRecording::from_bytes(&bytes, Path::new("fuzz.mcap"))
         }));
         match result {
-            Err(_) => panic!("case {k} (HOPSIM_FUZZ_SEED={seed}) panicked after {edits:?}"),
+            Err(_) => panic!("case seed {k} panicked after {edits:?}"),
             Ok(Ok(_)) if bytes != good => {
-                panic!("case {k} (HOPSIM_FUZZ_SEED={seed}): damaged file read as valid after {edits:?}")
+                panic!("case seed {k}: damaged file read as valid after {edits:?}")
             }
             Ok(_) => {}
         }
-    }
+    });
 }
 
 /// JSON fragments that break a message or a metadata value in interesting ways.
@@ -317,12 +333,8 @@ fn well_formed_files_with_damaged_content_never_panic_the_reader() {
             (m.channel.topic.clone(), m.sequence, m.data.into_owned())
         })
         .collect();
-    let (cases, seed) = (
-        env_or("PROPTEST_CASES", 256usize),
-        env_or("HOPSIM_FUZZ_SEED", 7u64),
-    );
-    for k in 0..cases {
-        let mut rng = Rng(seed ^ (k as u64).wrapping_mul(0x2d35_8dcc_aa6c_78a5));
+    for_each_seed(|k| {
+        let mut rng = Rng(k);
         let mut meta: BTreeMap<String, String> = metadata.clone();
         if rng.below(3) == 0 {
             let keys: Vec<String> = meta.keys().cloned().collect();
@@ -368,9 +380,6 @@ fn well_formed_files_with_damaged_content_never_panic_the_reader() {
         let result = catch_unwind(AssertUnwindSafe(|| {
             McapRecording::from_bytes(&bytes, Path::new("fuzz.mcap"))
         }));
-        assert!(
-            result.is_ok(),
-            "case {k} (HOPSIM_FUZZ_SEED={seed}) panicked the reader"
-        );
-    }
+        assert!(result.is_ok(), "case seed {k} panicked the reader");
+    });
 }

@@ -4,10 +4,12 @@
 //! `PROPTEST_CASES` environment variable sets another budget (e.g. 100000 for a long
 //! campaign) and `HOPSIM_FUZZ_SEED` another seed (docs/reliability.md).
 //!
-//! hopsim-scene has no proptest dev-dependency, so this file carries a small seeded
-//! generator; a failing case prints its seed, case number and input.
+//! proptest draws the seeds; each drives a small generator of scene text and overrides
+//! (SplitMix64) in this file. A failing case prints its seed and input.
 
 use hopsim_scene::{Override, Scene, SceneError};
+use proptest::prelude::any;
+use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
@@ -33,13 +35,6 @@ impl Rng {
     }
 }
 
-fn cases() -> usize {
-    std::env::var("PROPTEST_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(256)
-}
-
 fn seed() -> u64 {
     std::env::var("HOPSIM_FUZZ_SEED")
         .ok()
@@ -47,21 +42,29 @@ fn seed() -> u64 {
         .unwrap_or(0x5ce9e)
 }
 
-/// Runs `case` for every case of the budget, each with its own generator; a panic is
-/// reported with the seed, the case and the input `case` describes.
-fn run(name: &str, mut case: impl FnMut(&mut Rng) -> (String, Box<dyn FnOnce()>)) {
-    let seed = seed();
-    for k in 0..cases() {
-        let mut rng = Rng(seed ^ (k as u64).wrapping_mul(0xa076_1d64_78bd_642f));
-        let (input, check) = case(&mut rng);
-        if let Err(panic) = catch_unwind(AssertUnwindSafe(check)) {
+/// Runs `case` on the seeds proptest draws (`PROPTEST_CASES` of them, 256 by default) from
+/// a runner seeded with `HOPSIM_FUZZ_SEED`, so that every run of the suite tries the same
+/// cases; each seed drives its own generator. A panic is reported with the seed and the
+/// input `case` describes.
+fn run(name: &str, case: impl FnMut(&mut Rng) -> (String, Box<dyn FnOnce()>)) {
+    let case = std::cell::RefCell::new(case);
+    let mut key = [0u8; 32];
+    key[..8].copy_from_slice(&seed().to_le_bytes());
+    let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &key);
+    let mut runner = TestRunner::new_with_rng(Config::default(), rng);
+    let result = runner.run(&any::<u64>(), |s| {
+        let (input, check) = (case.borrow_mut())(&mut Rng(s));
+        catch_unwind(AssertUnwindSafe(check)).map_err(|panic| {
             let what = panic
                 .downcast_ref::<String>()
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default();
-            panic!("{name}: case {k} (HOPSIM_FUZZ_SEED={seed}) panicked: {what}\ninput:\n{input}");
-        }
+            TestCaseError::fail(format!("case seed {s} panicked: {what}\ninput:\n{input}"))
+        })
+    });
+    if let Err(e) = result {
+        panic!("{name} (HOPSIM_FUZZ_SEED={}): {e}", seed());
     }
 }
 
