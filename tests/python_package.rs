@@ -116,7 +116,6 @@ fn python_package_installs_and_passes_its_tests_and_notebook() {
     );
     let ran = run(Command::new(&venv_python)
         .args(["-c", &execute])
-        .env("MPLBACKEND", "Agg")
         .current_dir(repo));
     assert_eq!(ran, Some(true), "examples/robbit.ipynb failed to run");
 }
