@@ -131,11 +131,13 @@ def main() -> None:
     parser.add_argument("--grid", type=int, default=30, help="sweep grid size N (N × N)")
     parser.add_argument("--sweep-duration", type=float, default=20.0, help="sweep run length, s")
     parser.add_argument("--skip-sweep", action="store_true")
+    parser.add_argument("--only-sweep", action="store_true")
     parser.add_argument("--json", type=Path, help="write the figures here")
     args = parser.parse_args()
     figures = {}
-    figures.update(run_speed(args.hopsim_bin, args.duration, args.repeat))
-    figures.update(step_overhead(args.steps, args.repeat))
+    if not args.only_sweep:
+        figures.update(run_speed(args.hopsim_bin, args.duration, args.repeat))
+        figures.update(step_overhead(args.steps, args.repeat))
     if not args.skip_sweep:
         figures.update(sweep_speed(args.grid, args.sweep_duration))
     for key, value in figures.items():

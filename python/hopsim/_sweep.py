@@ -12,6 +12,10 @@ import numpy as np
 from . import _hopsim
 from ._hopsim import Scene
 
+#: Default number of chunks per worker thread of a Dask cluster: enough that runs of
+#: unequal cost even out across the workers, few enough that each task is many runs.
+CHUNKS_PER_THREAD = 16
+
 #: Columns of the sweep table that hold text; every other column holds numbers.
 TEXT_COLUMNS = ("label", "status", "error")
 
@@ -155,7 +159,7 @@ def sweep(
 
     Without ``client`` the runs share all local cores (Rust threads, the GIL released).
     With a ``dask.distributed.Client`` they are cut into chunks of ``chunk_size`` runs
-    (default: about four chunks per worker thread) run on the cluster's workers, each on
+    (default: about sixteen chunks per worker thread) run on the cluster's workers, each on
     its worker's threads; the rows and their order are the same either way (but for
     ``wall_time_s``). Raises ``SceneError`` if the grid's first point or a baseline is
     not a valid scene, ``ValueError`` for an axis given twice or a baseline named like
@@ -168,7 +172,7 @@ def sweep(
         return SweepTable._from_csv_parts([_hopsim.sweep_csv(scene, items, lines)])
     if chunk_size is None:
         threads = sum(client.nthreads().values()) or 1
-        chunk_size = max(1, math.ceil(runs / (4 * threads)))
+        chunk_size = max(1, math.ceil(runs / (CHUNKS_PER_THREAD * threads)))
     if chunk_size < 1:
         raise ValueError(f"chunk_size must be at least 1, got {chunk_size}")
     [scene_future] = client.scatter([scene], broadcast=True)
