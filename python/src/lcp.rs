@@ -44,13 +44,13 @@ pub fn lcp_solve<'py>(
     Ok(d)
 }
 
+/// `(M, q, comment)` of an LCP file.
+type DatProblem<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, String);
+
 /// Reads a Siconos `.dat` LCP file: `(M, q, comment)`. Raises `ValueError` when the file
 /// cannot be read or is malformed.
 #[pyfunction]
-pub fn lcp_read_dat<'py>(
-    py: Python<'py>,
-    path: PathBuf,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, String)> {
+pub fn lcp_read_dat<'py>(py: Python<'py>, path: PathBuf) -> PyResult<DatProblem<'py>> {
     let problem = read_dat(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let n = problem.m.nrows();
     let rows: Vec<f64> = (0..n)
