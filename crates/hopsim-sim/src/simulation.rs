@@ -180,10 +180,17 @@ impl<'s> Simulation<'s> {
         events: &[ControlEvent],
         observer: &mut dyn Observer,
     ) -> Result<(), RunError> {
+        // Field by field into the kept buffers (no allocation); the pattern names every
+        // field, so a new kind of command cannot be left out silently.
+        let Actuation {
+            torques,
+            impulses,
+            locks,
+        } = actuation;
         let own = &mut self.actuation;
-        own.torques.clone_from(&actuation.torques);
-        own.impulses.clone_from(&actuation.impulses);
-        own.locks.clone_from(&actuation.locks);
+        own.torques.clone_from(torques);
+        own.impulses.clone_from(impulses);
+        own.locks.clone_from(locks);
         self.control_events.clear();
         self.control_events.extend_from_slice(events);
         self.events.clear();
