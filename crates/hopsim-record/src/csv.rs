@@ -18,7 +18,7 @@ pub struct CsvRecorder {
 
 /// The frame columns: `t_s, step, <q>_<unit>, <q>_dot_<unit>, com_x_m, com_y_m, energies,
 /// actuator_torque_Nm`.
-pub(crate) fn frame_columns(info: &RecordingInfo) -> Vec<String> {
+pub fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     let mut columns = vec!["t_s".to_string(), "step".to_string()];
     let units = || {
         info.coordinates
@@ -32,6 +32,18 @@ pub(crate) fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     columns.extend(EnergySample::NAMES.map(|name| format!("{name}_J")));
     columns.push("actuator_torque_Nm".into());
     columns
+}
+
+/// The numbers of `frame` after `t_s` and `step`, in the order of [`frame_columns`]: `q`,
+/// `u`, the centre of mass, the energies and the actuator torque.
+pub fn frame_values<'a>(frame: &Frame<'a>) -> impl Iterator<Item = f64> + 'a {
+    let (q, u) = (frame.q, frame.u);
+    let rest = frame
+        .com
+        .into_iter()
+        .chain(frame.energy.values())
+        .chain([frame.actuator_torque]);
+    q.iter().chain(u).copied().chain(rest)
 }
 
 impl CsvRecorder {
@@ -65,18 +77,10 @@ impl Recorder for CsvRecorder {
         self.layout
             .check(frame)
             .map_err(|m| RecordError::format(self.frames.path(), m))?;
-        let energies = frame.energy.values();
-        let columns = [
-            frame.q,
-            frame.u,
-            &frame.com,
-            &energies,
-            &[frame.actuator_torque],
-        ];
         let w = &mut self.frames;
         let mut row = || -> std::io::Result<()> {
             write!(w, "{:?},{}", frame.t, frame.step)?;
-            for x in columns.into_iter().flatten() {
+            for x in frame_values(frame) {
                 write!(w, ",{x:?}")?;
             }
             writeln!(w)

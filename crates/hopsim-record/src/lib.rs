@@ -20,7 +20,7 @@ mod rerun_sink;
 pub use compare::{
     diff_recorded_states, diff_run_files, RunDiff, RunDiffOptions, StateDifference, StateMismatch,
 };
-pub use csv::CsvRecorder;
+pub use csv::{frame_columns, frame_values, CsvRecorder};
 pub use frame::{
     BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecordingInfo,
 };

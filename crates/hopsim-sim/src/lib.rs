@@ -2,7 +2,9 @@
 //! advances the state, and observers (recorders, the summary, golden traces, progress
 //! displays) see the step's record and events.
 //!
-//! * [`Simulation`]: one step at a time; [`run`]: a whole run and its [`Summary`].
+//! * [`Simulation`]: one step at a time (the scene's controller, or a caller's actuation
+//!   with [`Simulation::step_with`]); [`run`]: a whole run and its [`Summary`];
+//!   [`run_for`]: a span of a simulation under way.
 //! * [`Observer`]: what watches a run ([`StepView`] after every step).
 //! * [`RecordingObserver`]: frames and events to the recorders of `hopsim-record`.
 //! * [`PoincareSection`]: a stroboscopic section of a run and its period ([`Periodicity`]).
@@ -23,7 +25,7 @@ pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView};
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
-pub use run::run;
+pub use run::{run, run_for};
 pub use simulation::Simulation;
 pub use summary::{
     per_forward_metre, EnergySummary, ImpulseSummary, LcpSummary, Summary, WindowTotals,

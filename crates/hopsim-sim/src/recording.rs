@@ -54,11 +54,14 @@ pub struct RecordingObserver {
 
 impl RecordingObserver {
     /// Records every `round(1 / (rate Δt))`-th step (at least every step) and every step
-    /// with an event.
+    /// with an event, at the scene's `simulation.record_rate`.
     pub fn new(recorders: RecorderSet, scene: &Scene) -> Self {
-        let every = (1.0 / (scene.settings.record_rate * scene.settings.dt))
-            .round()
-            .max(1.0) as u64;
+        Self::with_rate(recorders, scene, scene.settings.record_rate)
+    }
+
+    /// [`RecordingObserver::new`] at `rate` frames per second of simulated time.
+    pub fn with_rate(recorders: RecorderSet, scene: &Scene, rate: f64) -> Self {
+        let every = (1.0 / (rate * scene.settings.dt)).round().max(1.0) as u64;
         Self {
             recorders,
             every,

@@ -4,11 +4,31 @@ use crate::{FlightEvent, FlightTracker, Observer, RunError, StepView};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{Event, EventKind};
 use hopsim_scene::Scene;
-use hopsim_step::{Actuation, ContactState, State, Stepper};
+use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, Stepper};
+use std::ops::Deref;
+use std::sync::Arc;
+
+/// The scene a [`Simulation`] runs: borrowed, or shared with its other owners (a front end
+/// that keeps simulations apart from the scene's lifetime, such as the Python package).
+enum SceneRef<'s> {
+    Borrowed(&'s Scene),
+    Shared(Arc<Scene>),
+}
+
+impl Deref for SceneRef<'_> {
+    type Target = Scene;
+
+    fn deref(&self) -> &Scene {
+        match self {
+            SceneRef::Borrowed(scene) => scene,
+            SceneRef::Shared(scene) => scene,
+        }
+    }
+}
 
 /// A scene being simulated: the stepper, the controller and the state.
 pub struct Simulation<'s> {
-    scene: &'s Scene,
+    scene: SceneRef<'s>,
     stepper: Stepper,
     controller: Box<dyn Controller>,
     state: State,
@@ -25,9 +45,20 @@ pub struct Simulation<'s> {
     loaded_now: Vec<bool>,
 }
 
+impl Simulation<'static> {
+    /// A simulation of a scene shared with other owners, at the scene's initial state.
+    pub fn shared(scene: Arc<Scene>) -> Self {
+        Self::with_scene(SceneRef::Shared(scene))
+    }
+}
+
 impl<'s> Simulation<'s> {
     /// A simulation at the scene's initial state; switchable shapes start switched off.
     pub fn new(scene: &'s Scene) -> Self {
+        Self::with_scene(SceneRef::Borrowed(scene))
+    }
+
+    fn with_scene(scene: SceneRef<'s>) -> Self {
         let model = &scene.model;
         let mut stepper = Stepper::new(model, scene.step_settings());
         let mut shapes_active = vec![true; model.shapes.len()];
@@ -38,30 +69,69 @@ impl<'s> Simulation<'s> {
             stepper.set_contact_enabled(i, shapes_active[c.shape]);
         }
         stepper.start(model, &scene.initial);
+        let controller = scene.controller.build(model);
+        let state = scene.initial.clone();
+        let switchable_contact = model
+            .contacts
+            .iter()
+            .map(|c| scene.switchable.contains(&c.shape))
+            .collect();
+        let contacts = model.contacts.len();
         Self {
             scene,
-            controller: scene.controller.build(model),
+            controller,
             stepper,
-            state: scene.initial.clone(),
+            state,
             actuation: Actuation::default(),
             control_events: Vec::new(),
             events: Vec::new(),
             shapes_active,
             flight: FlightTracker::default(),
             loaded: true,
-            switchable_contact: model
-                .contacts
-                .iter()
-                .map(|c| scene.switchable.contains(&c.shape))
-                .collect(),
-            was_loaded: vec![false; model.contacts.len()],
-            loaded_now: vec![false; model.contacts.len()],
+            switchable_contact,
+            was_loaded: vec![false; contacts],
+            loaded_now: vec![false; contacts],
         }
     }
 
     /// The scene being simulated.
-    pub fn scene(&self) -> &'s Scene {
-        self.scene
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Restarts the run at `state` (time, `q`, `u`): the stepper starts anew there (its
+    /// step count, energy ledger and LCP statistics restart), flight phases are counted
+    /// afresh; the controller and the shapes switched on stay as they are. `state` must
+    /// have the scene's number of coordinates (a wrong size panics).
+    pub fn set_state(&mut self, state: State) {
+        let n = self.scene.coordinates.len();
+        assert!(
+            state.q.len() == n && state.u.len() == n,
+            "set_state: q and u must have {n} entries"
+        );
+        self.state = state;
+        self.stepper.start(&self.scene.model, &self.state);
+        self.actuation.clear();
+        self.events.clear();
+        self.flight = FlightTracker::default();
+        self.loaded = true;
+        self.was_loaded.fill(false);
+    }
+
+    /// The actuation of the last step (the controller's or the caller's).
+    pub fn actuation(&self) -> &Actuation {
+        &self.actuation
+    }
+
+    /// Whether any contact carried a normal percussion in the last step (what a controller
+    /// sees as `in_contact`; true before the first step).
+    pub fn in_contact(&self) -> bool {
+        self.loaded
+    }
+
+    /// Whether each shape is switched on.
+    pub fn shapes_active(&self) -> &[bool] {
+        &self.shapes_active
     }
 
     /// The current state.
@@ -95,6 +165,43 @@ impl<'s> Simulation<'s> {
         };
         self.controller
             .control(&input, &mut self.actuation, &mut self.control_events);
+        self.advance(observer)
+    }
+
+    /// Takes one step with `actuation` and `events` (brakes, shape switches) given by the
+    /// caller in place of the scene's controller, which is not called in this step (its
+    /// own state does not advance). A brake event names the lock of `actuation.locks` it
+    /// engages, as the controllers' do. Body and shape indices must exist in the model.
+    /// Reuses the simulation's buffers: no allocation once they have grown to the
+    /// commands' sizes.
+    pub fn step_with(
+        &mut self,
+        actuation: &Actuation,
+        events: &[ControlEvent],
+        observer: &mut dyn Observer,
+    ) -> Result<(), RunError> {
+        // Field by field into the kept buffers (no allocation); the pattern names every
+        // field, so a new kind of command cannot be left out silently.
+        let Actuation {
+            torques,
+            joint_forces,
+            impulses,
+            locks,
+        } = actuation;
+        let own = &mut self.actuation;
+        own.torques.clone_from(torques);
+        own.joint_forces.clone_from(joint_forces);
+        own.impulses.clone_from(impulses);
+        own.locks.clone_from(locks);
+        self.control_events.clear();
+        self.control_events.extend_from_slice(events);
+        self.events.clear();
+        self.advance(observer)
+    }
+
+    /// The step itself, after the actuation and the control events are set.
+    fn advance(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
+        let model = &self.scene.model;
         let (t0, step0) = (self.state.t, self.stepper.record().step);
         for ev in &self.control_events {
             if let ControlEvent::ShapeSwitch { shape, active } = *ev {
@@ -115,6 +222,19 @@ impl<'s> Simulation<'s> {
             }
         }
         let record = self.stepper.step(model, &mut self.state, &self.actuation)?;
+        // Applied impulses act inside the step, as brakes do (N s for a point impulse,
+        // N m s for a rotational one).
+        for command in &self.actuation.impulses {
+            let magnitude = match *command {
+                ImpulseCommand::Point { impulse, .. } => impulse.norm(),
+                ImpulseCommand::Rotational { impulse, .. } => impulse.abs(),
+            };
+            self.events.push(Event {
+                t: record.t,
+                step: record.step,
+                kind: EventKind::AppliedImpulse { magnitude },
+            });
+        }
         // A brake acts inside the step: the event carries the impulse actually transferred
         // (a brake held engaged in later steps is not a new event).
         for ev in &self.control_events {

@@ -104,17 +104,19 @@ pub(crate) struct SummaryCollector {
 }
 
 impl SummaryCollector {
-    pub(crate) fn new(scene: &Scene) -> Self {
+    /// A summary of `duration` seconds of a run of `scene` that starts at `start`: the
+    /// speed window is the last `summary.speed_window` seconds of that span.
+    pub(crate) fn new(scene: &Scene, start: &State, duration: f64) -> Self {
         let s = &scene.settings;
-        let x_start = com_x(&scene.model, &scene.initial);
-        let window_start = s.duration - s.speed_window;
+        let x_start = com_x(&scene.model, start);
+        let window_start = start.t + (duration - s.speed_window);
         Self {
             title: scene.title.clone(),
             dt: s.dt,
-            t_start: scene.initial.t,
+            t_start: start.t,
             window_start,
             x_start,
-            x_window: (window_start <= 0.0).then_some(x_start),
+            x_window: (window_start <= start.t).then_some(x_start),
             steps: 0,
             hops: 0,
             impulses: ImpulseSummary {

@@ -10,7 +10,7 @@ use hopsim_model::Shape;
 use hopsim_scene::Scene;
 use hopsim_sim::{
     per_forward_metre, Observer, Periodicity, PeriodicityOptions, PoincareSection, RunError,
-    Summary,
+    Simulation, Summary,
 };
 use serde::Serialize;
 use std::fmt;
@@ -54,8 +54,24 @@ pub struct RunReport {
 /// Runs `scene` for its duration, showing every step to `observer`, and returns its summary
 /// with the scene's sections.
 pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunReport, RunError> {
-    let mut section = gait_section(scene);
-    let summary = hopsim_sim::run(scene, &mut (&mut section, observer))?;
+    run_simulation(
+        &mut Simulation::new(scene),
+        scene.settings.duration,
+        observer,
+    )
+}
+
+/// Continues `sim` for `duration` seconds ([`hopsim_sim::run_for`]) and returns the
+/// summary of that span with the scene's sections; for a simulation at its scene's
+/// initial state and the scene's duration this is [`run_scene`].
+pub fn run_simulation(
+    sim: &mut Simulation<'_>,
+    duration: f64,
+    observer: &mut dyn Observer,
+) -> Result<RunReport, RunError> {
+    let mut section = gait_section(sim.scene(), sim.state().t);
+    let summary = hopsim_sim::run_for(sim, duration, &mut (&mut section, observer))?;
+    let scene = sim.scene();
     Ok(RunReport {
         robbit: RobbitSummary::of(scene, &summary),
         gait: section.map(|s| s.detect(&PeriodicityOptions::default())),
@@ -63,10 +79,10 @@ pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunReport
     })
 }
 
-/// The section at the start of every motor period, for pulse-driven scenes.
-fn gait_section(scene: &Scene) -> Option<PoincareSection> {
+/// The section at the start of every motor period from `t0`, for pulse-driven scenes.
+fn gait_section(scene: &Scene, t0: f64) -> Option<PoincareSection> {
     match &scene.controller {
-        ControllerConfig::Pulse(c) => Some(PoincareSection::new(c.period, scene.initial.t)),
+        ControllerConfig::Pulse(c) => Some(PoincareSection::new(c.period, t0)),
         _ => None,
     }
 }

@@ -15,6 +15,7 @@ use hopsim_scene::{Override, Scene, SceneError};
 use hopsim_sim::{grid_jobs, GridAxis, SweepJob, SweepPoint};
 use serde::Serialize;
 use std::fmt::Write;
+use std::ops::Range;
 
 /// A run-summary figure: its CSV column name and how to read it.
 type Metric = (&'static str, fn(&RunReport) -> f64);
@@ -222,6 +223,18 @@ impl<'a> Sweep<'a> {
 
     /// Runs every point on all cores, ticking `progress` after each run.
     pub fn run(self, progress: &dyn Progress) -> SweepReport {
+        let all = 0..self.jobs.len();
+        self.run_part(all, progress)
+    }
+
+    /// Runs only the runs `part` of the sweep's [`Sweep::runs`] (grid points, then
+    /// baselines), on all cores: a chunk of a sweep shared out over several processes or
+    /// machines. Its rows are those of [`Sweep::run`] in `part`, in order. A `part` beyond
+    /// the runs is cut to them.
+    pub fn run_part(mut self, part: Range<usize>, progress: &dyn Progress) -> SweepReport {
+        let end = part.end.min(self.jobs.len());
+        self.jobs.truncate(end);
+        self.jobs.drain(..part.start.min(end));
         let scene = self.scene;
         let tick = progress.task(self.jobs.len(), "sweep");
         let points = hopsim_sim::sweep(

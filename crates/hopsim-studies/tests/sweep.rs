@@ -144,3 +144,35 @@ fn rows_follow_the_grid_then_the_baselines_and_failed_runs_keep_their_error() {
         .collect();
     assert_eq!(names, ["sweep.csv", "sweep.png", "sweep.svg"]);
 }
+
+/// A sweep run in parts (chunks spread over processes) gives the rows of the whole sweep,
+/// in order; a part past the end is cut to the runs.
+#[test]
+fn parts_of_a_sweep_give_its_rows() {
+    let (scene, base) = robbit("0.5");
+    let p = params(
+        &[
+            "controller.torque=0.1,0.2",
+            "controller.impulse_limit=0.05,0.06",
+        ],
+        &["slow:controller.torque=0.05"],
+    );
+    let sweep = || Sweep::new(&scene, &base, p.clone()).unwrap();
+    let whole = sweep().run(&Silent);
+    assert_eq!(whole.runs.len(), 5);
+    let parts: Vec<_> = [0..2, 2..4, 4..9]
+        .into_iter()
+        .flat_map(|part| sweep().run_part(part, &Silent).runs)
+        .collect();
+    let key = |r: &hopsim_studies::sweep::SweepRun| {
+        let s = r
+            .summary
+            .as_ref()
+            .map(|s| (s.summary.steps, s.summary.distance_m));
+        (r.label.clone(), r.values.clone(), s, r.error.clone())
+    };
+    let whole: Vec<_> = whole.runs.iter().map(key).collect();
+    let parts: Vec<_> = parts.iter().map(key).collect();
+    assert_eq!(parts, whole);
+    assert!(sweep().run_part(7..9, &Silent).runs.is_empty());
+}

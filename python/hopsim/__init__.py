@@ -1,0 +1,87 @@
+"""hopsim: planar non-smooth multibody simulation from Python.
+
+A Moreau midpoint time-stepper whose contact step is a frictional LCP solved by Lemke's
+method, for impulse-actuated hopping robots described in TOML scene files. This package
+wraps the Rust crates of hopsim (it re-implements nothing): the numbers are those of the
+``hopsim`` command line, bit for bit.
+
+* :class:`Scene`: a validated scene file (``Scene.load``, ``Scene.from_toml``); errors are
+  :class:`SceneError` with ``file``, ``line``, ``column`` and ``key``.
+* :class:`Simulation`: ``step()``, the state as numpy arrays, ``contacts()``, per-step
+  :class:`Actuation` from a controller written in Python, ``run()`` returning a
+  :class:`Trajectory` with the run summary of ``hopsim run --summary``.
+* :mod:`hopsim.lcp`: ``solve(M, q)`` by Lemke's method with its certificate.
+* :func:`read_mcap`: a recording written by ``hopsim run --mcap`` as arrays.
+* :func:`sweep`: a scene over a grid of parameters on all local cores, or on a Dask
+  cluster in chunks, as the table of ``hopsim sweep``.
+
+See docs/python.md.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+from . import _hopsim, lcp
+from ._hopsim import Actuation, Scene, SceneError, SimulationError
+from ._sweep import SweepTable, sweep
+from ._trajectory import Recording, Trajectory
+
+__version__: str = _hopsim.__version__
+
+__all__ = [
+    "Actuation",
+    "Recording",
+    "Scene",
+    "SceneError",
+    "Simulation",
+    "SimulationError",
+    "SweepTable",
+    "Trajectory",
+    "lcp",
+    "read_mcap",
+    "sweep",
+]
+
+
+class Simulation(_hopsim.Simulation):
+    """A scene being simulated, one step at a time or a span at a time.
+
+    ``Simulation(scene)`` starts at the scene's initial state. ``t``, ``q``, ``u``,
+    ``angular_velocities``, ``body_positions`` and ``body_angles`` are new numpy arrays
+    at each access (copies: changing them changes nothing; use ``set_state``).
+    ``step(n=1, actuation=None)`` takes steps with the scene's controller, or with the
+    commands of an :class:`Actuation` in its place.
+    """
+
+    def run(
+        self, duration: Optional[float] = None, record_rate: Optional[float] = None
+    ) -> Trajectory:
+        """Continues for ``duration`` seconds (default: the scene's ``simulation.duration``)
+        with the scene's controller, the GIL released, recording a frame at
+        ``record_rate`` Hz (default: the scene's ``simulation.record_rate``) and at every
+        step with an event, as ``hopsim run`` records. For a new simulation and the
+        scene's duration the trajectory and its ``summary`` are those of
+        ``hopsim run SCENE --summary FILE`` (but for the wall time)."""
+        return Trajectory._from_run(self._run(duration, record_rate))
+
+    def events(self) -> List[Dict[str, Any]]:
+        """The events of the last step (take-off, touchdown, brake, ...), as recorded."""
+        return json.loads(self._events())
+
+    @property
+    def state(self) -> "tuple[float, np.ndarray, np.ndarray]":
+        """``(t, q, u)`` (copies)."""
+        return self.t, self.q, self.u
+
+
+def read_mcap(path: "str | os.PathLike[str]") -> Recording:
+    """Reads a recording written by ``hopsim run --mcap`` (numbers bit for bit): the
+    recorded states, contact and brake impulses, events, metadata and the scene file.
+    Raises ``ValueError`` for a file that is not a complete hopsim recording."""
+    return Recording._from_raw(_hopsim.read_mcap(path))
+

@@ -1,0 +1,360 @@
+//! `hopsim.Scene` and `hopsim.SceneError`: a validated scene file, shared by the
+//! simulations and sweeps made from it.
+
+use hopsim_control::ControllerConfig;
+use hopsim_scene::{Location, Override};
+use numpy::PyArray1;
+use pyo3::create_exception;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+create_exception!(
+    hopsim,
+    SceneError,
+    PyValueError,
+    "An invalid scene: unreadable file, TOML syntax error, or a key missing, of the wrong \
+     type or out of range. Attributes: `file`, `line`, `column` (1-based), `key` (dotted \
+     path), `override` (the override that set the value) and `message`; those that do not \
+     apply are None."
+);
+
+/// The option named in errors about an override given from Python.
+pub const OVERRIDE_FLAG: &str = "overrides";
+
+/// The Python exception of a scene error, with its place as attributes.
+pub fn scene_error(py: Python<'_>, error: &hopsim_scene::SceneError) -> PyErr {
+    let err = SceneError::new_err(error.to_string());
+    let (mut file, mut line, mut column, mut over) = (None, None, None, None);
+    match (error, error.location()) {
+        (
+            _,
+            Some(Location::File {
+                path,
+                line: l,
+                column: c,
+            }),
+        ) => {
+            file = Some(path.display().to_string());
+            (line, column) = (Some(*l), Some(*c));
+        }
+        (_, Some(Location::Override(text))) => over = Some(text.clone()),
+        (hopsim_scene::SceneError::Io { path, .. }, None) => {
+            file = Some(path.display().to_string())
+        }
+        (hopsim_scene::SceneError::Override { text, .. }, None) => over = Some(text.clone()),
+        _ => {}
+    }
+    let message = match error {
+        hopsim_scene::SceneError::Io { source, .. } => source.to_string(),
+        hopsim_scene::SceneError::Syntax { message, .. }
+        | hopsim_scene::SceneError::Invalid { message, .. }
+        | hopsim_scene::SceneError::Override { message, .. } => message.clone(),
+    };
+    let value = err.value(py);
+    // Setting an attribute on a fresh exception instance does not fail.
+    let _ = value.setattr("file", file);
+    let _ = value.setattr("line", line);
+    let _ = value.setattr("column", column);
+    let _ = value.setattr("key", error.key());
+    let _ = value.setattr("override", over);
+    let _ = value.setattr("message", message);
+    err
+}
+
+/// A Python value as the TOML text of an override: numbers, booleans, strings (TOML as
+/// typed on the command line: a bare word is a string) and lists of these.
+fn toml_value(key: &str, value: &Bound<'_, PyAny>, nested: bool) -> PyResult<String> {
+    if value.is_instance_of::<PyBool>() {
+        return Ok(value.extract::<bool>()?.to_string());
+    }
+    if value.is_instance_of::<PyString>() {
+        let s: String = value.extract()?;
+        return Ok(if nested { format!("{s:?}") } else { s });
+    }
+    if !value.is_instance_of::<PyFloat>() {
+        if let Ok(i) = value.extract::<i64>() {
+            return Ok(i.to_string());
+        }
+    }
+    if let Ok(x) = value.extract::<f64>() {
+        return Ok(match x {
+            x if x.is_nan() => "nan".into(),
+            x if x.is_infinite() => (if x > 0.0 { "inf" } else { "-inf" }).into(),
+            x => format!("{x:?}"),
+        });
+    }
+    if let Ok(items) = value.try_iter() {
+        let items = items
+            .map(|item| toml_value(key, &item?, true))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(format!("[{}]", items.join(", ")));
+    }
+    Err(PyTypeError::new_err(format!(
+        "override {key}: expected a number, bool, string or list, got {}",
+        value.get_type().name()?
+    )))
+}
+
+/// `{key: value}` as scene overrides (`key` a dotted path such as `controller.torque`).
+pub fn overrides_from(dict: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<Override>> {
+    let Some(dict) = dict else {
+        return Ok(Vec::new());
+    };
+    dict.iter()
+        .map(|(k, v)| {
+            let key: String = k
+                .extract()
+                .map_err(|_| PyTypeError::new_err("override keys must be strings"))?;
+            let value = toml_value(&key, &v, false)?;
+            Ok(Override::from_flag(OVERRIDE_FLAG, key, value))
+        })
+        .collect()
+}
+
+/// A validated scene: robot, world, controller and run settings, read from a TOML scene
+/// file (docs/scene-format.md) with overrides applied. Immutable; `with_overrides` makes
+/// a new one. Picklable (as its text, path and overrides), so it can be sent to Dask
+/// workers.
+#[pyclass(name = "Scene", module = "hopsim", frozen)]
+pub struct PyScene {
+    pub scene: Arc<hopsim_scene::Scene>,
+}
+
+impl PyScene {
+    fn parse(py: Python<'_>, text: &str, path: &Path, overrides: &[Override]) -> PyResult<Self> {
+        let scene = py
+            .detach(|| hopsim_scene::parse(text, path, overrides))
+            .map_err(|e| scene_error(py, &e))?;
+        Ok(Self {
+            scene: Arc::new(scene),
+        })
+    }
+}
+
+#[pymethods]
+impl PyScene {
+    /// Reads the scene file at `path` with `overrides` (`{"controller.torque": 0.2}`)
+    /// applied. Raises `SceneError` (with file, line, column and key) when it is invalid.
+    #[staticmethod]
+    #[pyo3(signature = (path, overrides = None))]
+    fn load(
+        py: Python<'_>,
+        path: PathBuf,
+        overrides: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let overrides = overrides_from(overrides)?;
+        let scene = py
+            .detach(|| hopsim_scene::load(&path, &overrides))
+            .map_err(|e| scene_error(py, &e))?;
+        Ok(Self {
+            scene: Arc::new(scene),
+        })
+    }
+
+    /// A scene from TOML `text`; `path` names it in errors (and relative paths in it are
+    /// not used: scenes are self-contained).
+    #[staticmethod]
+    #[pyo3(signature = (text, overrides = None, path = "<string>"))]
+    fn from_toml(
+        py: Python<'_>,
+        text: &str,
+        overrides: Option<&Bound<'_, PyDict>>,
+        path: &str,
+    ) -> PyResult<Self> {
+        let overrides = overrides_from(overrides)?;
+        Self::parse(py, text, Path::new(path), &overrides)
+    }
+
+    /// This scene with more `overrides` applied on top of its own.
+    fn with_overrides(&self, py: Python<'_>, overrides: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let mut all = self.scene.overrides.clone();
+        all.extend(overrides_from(Some(overrides))?);
+        Self::parse(py, &self.scene.text, &self.scene.path, &all)
+    }
+
+    /// Rebuilds a pickled scene.
+    #[staticmethod]
+    fn _restore(
+        py: Python<'_>,
+        text: &str,
+        path: PathBuf,
+        overrides: Vec<(String, String)>,
+    ) -> PyResult<Self> {
+        let overrides: Vec<Override> = overrides
+            .into_iter()
+            .map(|(k, v)| Override::from_flag(OVERRIDE_FLAG, k, v))
+            .collect();
+        Self::parse(py, text, &path, &overrides)
+    }
+
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let restore = py.get_type::<PyScene>().getattr("_restore")?;
+        let s = &self.scene;
+        let overrides: Vec<(String, String)> = s
+            .overrides
+            .iter()
+            .map(|o| (o.key.clone(), o.value.clone()))
+            .collect();
+        let args = (s.text.clone(), s.path.clone(), overrides).into_pyobject(py)?;
+        PyTuple::new(py, [restore, args.into_any()])
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}, path={:?}, {} coordinates)",
+            self.scene.title,
+            self.scene.path.display().to_string(),
+            self.scene.coordinates.len()
+        )
+    }
+
+    /// The scene file's path.
+    #[getter]
+    fn path(&self) -> String {
+        self.scene.path.display().to_string()
+    }
+
+    /// `meta.title` (or the file's stem).
+    #[getter]
+    fn title(&self) -> &str {
+        &self.scene.title
+    }
+
+    /// The scene file's text as read (overrides not applied).
+    #[getter]
+    fn text(&self) -> &str {
+        &self.scene.text
+    }
+
+    /// The overrides applied, `{key: value as TOML text}`.
+    #[getter]
+    fn overrides<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for o in &self.scene.overrides {
+            d.set_item(&o.key, &o.value)?;
+        }
+        Ok(d)
+    }
+
+    /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
+    #[getter]
+    fn coordinates(&self) -> Vec<String> {
+        self.scene.coordinates.clone()
+    }
+
+    /// The bodies: `index`, `name`, `mass` (kg), `inertia` (kg m², about the centre of
+    /// mass) and `parent` (the parent body's index, None for the floating base).
+    #[getter]
+    fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for (i, b) in self.scene.model.bodies.iter().enumerate() {
+            let d = PyDict::new(py);
+            d.set_item("index", i)?;
+            d.set_item("name", &b.name)?;
+            d.set_item("mass", b.mass)?;
+            d.set_item("inertia", b.inertia)?;
+            d.set_item("parent", b.joint.as_ref().map(|j| j.parent))?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// The index of the body called `name`.
+    fn body_index(&self, name: &str) -> PyResult<usize> {
+        let bodies = &self.scene.model.bodies;
+        bodies.iter().position(|b| b.name == name).ok_or_else(|| {
+            let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+            PyValueError::new_err(format!(
+                "no body '{name}'; the bodies are {}",
+                names.join(", ")
+            ))
+        })
+    }
+
+    /// Names of the contact shapes, in model order (the indices of `switch_shape`).
+    #[getter]
+    fn shapes(&self) -> Vec<String> {
+        let shapes = &self.scene.model.shapes;
+        shapes.iter().map(|s| s.name.clone()).collect()
+    }
+
+    /// Names of the potential contacts (shape feature against terrain feature).
+    #[getter]
+    fn contacts(&self) -> Vec<String> {
+        let contacts = &self.scene.model.contacts;
+        contacts.iter().map(|c| c.name.clone()).collect()
+    }
+
+    /// `[simulation]` and `[summary]` settings: `duration` (s), `dt` (s), `gravity`
+    /// (m/s²), `record_rate` (Hz), `speed_window` (s), `cube_restitution`, `strict`,
+    /// `max_speed`.
+    #[getter]
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.scene.settings;
+        let d = PyDict::new(py);
+        d.set_item("duration", s.duration)?;
+        d.set_item("dt", s.dt)?;
+        d.set_item("gravity", s.gravity)?;
+        d.set_item("record_rate", s.record_rate)?;
+        d.set_item("speed_window", s.speed_window)?;
+        d.set_item("cube_restitution", s.cube_restitution)?;
+        d.set_item("strict", s.strict)?;
+        d.set_item("max_speed", s.max_speed)?;
+        Ok(d)
+    }
+
+    /// Step size `Δt`, s.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.scene.settings.dt
+    }
+
+    /// Simulated time of a run, s.
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.scene.settings.duration
+    }
+
+    /// The controller's settings: `type` (`"passive"`, `"momentum_impulse"` or
+    /// `"pulse"`) and its parameters in SI units (body and shape indices).
+    #[getter]
+    fn controller<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        match &self.scene.controller {
+            ControllerConfig::Passive => d.set_item("type", "passive")?,
+            ControllerConfig::MomentumImpulse(c) => {
+                d.set_item("type", "momentum_impulse")?;
+                d.set_item("flywheel", c.flywheel)?;
+                d.set_item("torque", c.torque)?;
+                d.set_item("impulse_limit", c.impulse_limit)?;
+                d.set_item("rearm_timeout", c.rearm_timeout)?;
+                d.set_item("hold_brake", c.hold_brake)?;
+            }
+            ControllerConfig::Pulse(c) => {
+                d.set_item("type", "pulse")?;
+                d.set_item("joint_body", c.joint_body)?;
+                d.set_item("torque", c.torque)?;
+                d.set_item("pulse_duration", c.pulse_duration)?;
+                d.set_item("period", c.period)?;
+                d.set_item("cane_shape", c.cane_shape)?;
+                d.set_item("cane", c.cane.to_string())?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Initial generalised coordinates `q` (a new array).
+    #[getter]
+    fn initial_q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.scene.initial.q.as_slice())
+    }
+
+    /// Initial generalised velocities `u` (a new array).
+    #[getter]
+    fn initial_u<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.scene.initial.u.as_slice())
+    }
+}

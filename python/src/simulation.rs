@@ -1,0 +1,504 @@
+//! `hopsim.Simulation` and `hopsim.Actuation`: a scene stepped from Python, by its own
+//! controller or by a controller written in Python.
+
+use crate::scene::PyScene;
+use hopsim_control::ControlEvent;
+use hopsim_model::Vec2;
+use hopsim_record::{
+    frame_columns, frame_values, Event, Frame, RecordError, Recorder, RecorderSet,
+};
+use hopsim_scene::Scene;
+use hopsim_sim::{recording_info, RecordingObserver, RunError, Simulation};
+use hopsim_step::{Actuation, ImpulseCommand, JointForceCommand, State, TorqueCommand};
+use hopsim_studies::run_summary::run_simulation;
+use nalgebra::DVector;
+use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+create_exception!(
+    hopsim,
+    SimulationError,
+    PyRuntimeError,
+    "A simulation stopped: a non-finite or runaway state, or (in strict mode) a contact LCP \
+     without a certified solution."
+);
+
+/// The Python exception of a run error.
+fn run_error(error: RunError) -> PyErr {
+    SimulationError::new_err(error.to_string())
+}
+
+/// What a controller written in Python commands for one step: torques held over the step,
+/// impulses applied inside it, velocity locks (brakes) and contact-shape switches
+/// (physics.md §3, §5.3, §5.4). Bodies and shapes are indices (`Scene.bodies`,
+/// `Scene.shapes`). Build one, fill it before each step, pass it to `Simulation.step`,
+/// and `clear()` it: the buffers are reused.
+#[pyclass(name = "Actuation", module = "hopsim")]
+#[derive(Default)]
+pub struct PyActuation {
+    actuation: Actuation,
+    events: Vec<ControlEvent>,
+}
+
+#[pymethods]
+impl PyActuation {
+    #[new]
+    fn new() -> Self {
+        Self::default()
+    }
+
+    /// Removes every command.
+    fn clear(&mut self) {
+        self.actuation.clear();
+        self.events.clear();
+    }
+
+    /// A torque `torque` (N m) on `body`, and `-torque` on `reaction` (a motor between two
+    /// bodies) if given.
+    #[pyo3(signature = (body, torque, reaction = None))]
+    fn torque(&mut self, body: usize, torque: f64, reaction: Option<usize>) {
+        self.actuation.torques.push(TorqueCommand {
+            body,
+            reaction,
+            torque,
+        });
+    }
+
+    /// A generalised force on the joint of `body` held over the step: a torque (N m) on a
+    /// revolute joint, a force (N) along a prismatic one (physics.md §7).
+    fn joint_force(&mut self, body: usize, force: f64) {
+        self.actuation
+            .joint_forces
+            .push(JointForceCommand { body, force });
+    }
+
+    /// A translational impulse `(ζx, ζy)` (N s, world frame) at the point of `body` at
+    /// world offset `offset` (m) from its centre of mass, applied inside the step.
+    #[pyo3(signature = (body, impulse, offset = (0.0, 0.0)))]
+    fn point_impulse(&mut self, body: usize, impulse: (f64, f64), offset: (f64, f64)) {
+        self.actuation.impulses.push(ImpulseCommand::Point {
+            body,
+            offset: Vec2::new(offset.0, offset.1),
+            impulse: Vec2::new(impulse.0, impulse.1),
+        });
+    }
+
+    /// A rotational impulse `impulse` (N m s) on `body`, and its opposite on `reaction`.
+    #[pyo3(signature = (body, impulse, reaction = None))]
+    fn rotational_impulse(&mut self, body: usize, impulse: f64, reaction: Option<usize>) {
+        self.actuation.impulses.push(ImpulseCommand::Rotational {
+            body,
+            reaction,
+            impulse,
+        });
+    }
+
+    /// Locks the rotation of `body` to that of `other` in this step (an engaged brake:
+    /// `θ̇_body = θ̇_other` at the end of the step), without a brake event.
+    fn lock(&mut self, body: usize, other: usize) {
+        self.actuation.locks.push((body, other));
+    }
+
+    /// A brake: the lock of `lock(body, other)` and a brake event (counted in the run
+    /// summary with the angular impulse it transferred).
+    fn brake(&mut self, body: usize, other: usize) {
+        self.actuation.locks.push((body, other));
+        self.events.push(ControlEvent::Brake { body, other });
+    }
+
+    /// Switches contact shape `shape` on or off (a cane extended or retracted) before the
+    /// step.
+    fn switch_shape(&mut self, shape: usize, active: bool) {
+        self.events
+            .push(ControlEvent::ShapeSwitch { shape, active });
+    }
+
+    fn __repr__(&self) -> String {
+        let a = &self.actuation;
+        format!(
+            "Actuation({} torques, {} joint forces, {} impulses, {} locks, {} events)",
+            a.torques.len(),
+            a.joint_forces.len(),
+            a.impulses.len(),
+            a.locks.len(),
+            self.events.len()
+        )
+    }
+}
+
+impl PyActuation {
+    /// Refuses commands that name a body or shape the scene does not have.
+    fn check(&self, scene: &Scene) -> PyResult<()> {
+        let (bodies, shapes) = (scene.model.bodies.len(), scene.model.shapes.len());
+        let body = |b: usize| -> PyResult<()> {
+            if b < bodies {
+                Ok(())
+            } else {
+                Err(PyIndexError::new_err(format!(
+                    "actuation names body {b}; the scene has {bodies} bodies (0 to {})",
+                    bodies - 1
+                )))
+            }
+        };
+        let a = &self.actuation;
+        for t in &a.torques {
+            body(t.body)?;
+            t.reaction.map_or(Ok(()), body)?;
+        }
+        for i in &a.impulses {
+            match *i {
+                ImpulseCommand::Point { body: b, .. } => body(b)?,
+                ImpulseCommand::Rotational {
+                    body: b, reaction, ..
+                } => {
+                    body(b)?;
+                    reaction.map_or(Ok(()), body)?;
+                }
+            }
+        }
+        for f in &a.joint_forces {
+            body(f.body)?;
+            if scene.model.bodies[f.body].joint.is_none() {
+                return Err(PyValueError::new_err(format!(
+                    "joint_force names body {}, which has no joint",
+                    f.body
+                )));
+            }
+        }
+        for &(b, o) in &a.locks {
+            body(b)?;
+            body(o)?;
+            if b == o {
+                return Err(PyValueError::new_err(format!(
+                    "a lock needs two bodies; both are {b}"
+                )));
+            }
+        }
+        for e in &self.events {
+            match *e {
+                ControlEvent::Brake { body: b, other } => {
+                    body(b)?;
+                    body(other)?;
+                }
+                ControlEvent::ShapeSwitch { shape, .. } if shape >= shapes => {
+                    return Err(PyIndexError::new_err(format!(
+                        "actuation switches shape {shape}; the scene has {shapes} shapes"
+                    )))
+                }
+                ControlEvent::ShapeSwitch { .. } => {}
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A scene being simulated, one step at a time or a span at a time. State arrays are
+/// returned as new numpy arrays (copies: changing them changes nothing in the
+/// simulation; use `set_state`).
+#[pyclass(name = "Simulation", module = "hopsim", subclass)]
+pub struct PySimulation {
+    /// `Simulation` holds the scene's controller, which is `Send` but not `Sync`; the
+    /// mutex makes the class shareable between threads (methods taking `&mut self` reach
+    /// it without locking).
+    sim: Mutex<Simulation<'static>>,
+    scene: Arc<Scene>,
+    py_scene: Py<PyScene>,
+}
+
+impl PySimulation {
+    fn sim(&mut self) -> &mut Simulation<'static> {
+        self.sim.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn shared(&self) -> MutexGuard<'_, Simulation<'static>> {
+        self.sim.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Frames of a run collected for Python: one row of the CSV recorder's columns each.
+#[derive(Default)]
+struct Frames {
+    values: Vec<f64>,
+    steps: Vec<u64>,
+    events: Vec<Event>,
+}
+
+/// A recorder that keeps the frames in memory.
+struct FrameCollector(Rc<RefCell<Frames>>);
+
+impl Recorder for FrameCollector {
+    fn frame(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
+        let mut frames = self.0.borrow_mut();
+        frames.values.push(frame.t);
+        frames.values.push(frame.step as f64);
+        frames.values.extend(frame_values(frame));
+        frames.steps.push(frame.step);
+        Ok(())
+    }
+
+    fn event(&mut self, event: &Event) -> Result<(), RecordError> {
+        self.0.borrow_mut().events.push(event.clone());
+        Ok(())
+    }
+
+    fn finish(self: Box<Self>) -> Result<(), RecordError> {
+        Ok(())
+    }
+}
+
+fn positive(name: &str, value: Option<f64>, default: f64) -> PyResult<f64> {
+    match value {
+        None => Ok(default),
+        Some(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Some(v) => Err(PyValueError::new_err(format!(
+            "{name} must be positive and finite, got {v}"
+        ))),
+    }
+}
+
+#[pymethods]
+impl PySimulation {
+    /// A simulation of `scene` at its initial state.
+    #[new]
+    fn new(scene: Bound<'_, PyScene>) -> Self {
+        let shared = scene.get().scene.clone();
+        Self {
+            sim: Mutex::new(Simulation::shared(shared.clone())),
+            scene: shared,
+            py_scene: scene.unbind(),
+        }
+    }
+
+    /// The scene being simulated.
+    #[getter]
+    fn scene(&self, py: Python<'_>) -> Py<PyScene> {
+        self.py_scene.clone_ref(py)
+    }
+
+    /// Takes `n` steps. Without `actuation` the scene's controller acts; with one, its
+    /// commands act in each of these steps instead (the scene's controller is not called,
+    /// so it does not advance). The GIL is released while more than one step runs.
+    /// Raises `SimulationError` when a step fails (a non-finite or runaway state).
+    #[pyo3(signature = (n = 1, actuation = None))]
+    fn step(
+        &mut self,
+        py: Python<'_>,
+        n: u64,
+        actuation: Option<PyRef<'_, PyActuation>>,
+    ) -> PyResult<()> {
+        let scene = self.scene.clone();
+        let sim = self.sim();
+        match actuation {
+            Some(a) => {
+                a.check(&scene)?;
+                for _ in 0..n {
+                    sim.step_with(&a.actuation, &a.events, &mut ())
+                        .map_err(run_error)?;
+                }
+                Ok(())
+            }
+            None if n == 1 => sim.step(&mut ()).map_err(run_error),
+            None => py
+                .detach(|| (0..n).try_for_each(|_| sim.step(&mut ())))
+                .map_err(run_error),
+        }
+    }
+
+    /// Continues the simulation for `duration` seconds (default: the scene's
+    /// `simulation.duration`) with the scene's controller, recording frames at
+    /// `record_rate` Hz (default: the scene's) and at every step with an event, the GIL
+    /// released. Returns a dict: `columns` (the CSV recorder's column names), `frames`
+    /// (one row per frame), `steps`, `events` (JSON), `summary` (JSON, the CLI's
+    /// `--summary` document). `hopsim.Simulation.run` wraps it as a `Trajectory`.
+    #[pyo3(signature = (duration = None, record_rate = None))]
+    fn _run<'py>(
+        &mut self,
+        py: Python<'py>,
+        duration: Option<f64>,
+        record_rate: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let scene = self.scene.clone();
+        let duration = positive("duration", duration, scene.settings.duration)?;
+        let rate = positive("record_rate", record_rate, scene.settings.record_rate)?;
+        let sim = self.sim();
+        let (report, frames) = py.detach(|| {
+            let frames = Rc::new(RefCell::new(Frames::default()));
+            let mut recorders = RecorderSet::default();
+            recorders.push(Box::new(FrameCollector(frames.clone())));
+            let mut observer = RecordingObserver::with_rate(recorders, &scene, rate);
+            let report = run_simulation(sim, duration, &mut observer)
+                .and_then(|r| observer.finish().map(|()| r))
+                .map_err(|e| e.to_string())
+                .and_then(|r| serde_json::to_string(&r).map_err(|e| e.to_string()));
+            (report, frames.take())
+        });
+        let summary = report.map_err(SimulationError::new_err)?;
+        let columns = frame_columns(&recording_info(&scene));
+        let width = columns.len();
+        let rows = frames.steps.len();
+        let events = serde_json::to_string(&frames.events)
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let d = PyDict::new(py);
+        d.set_item("columns", columns)?;
+        d.set_item(
+            "frames",
+            PyArray1::from_vec(py, frames.values).reshape([rows, width])?,
+        )?;
+        d.set_item("steps", PyArray1::from_vec(py, frames.steps))?;
+        d.set_item("events", events)?;
+        d.set_item("summary", summary)?;
+        d.set_item("coordinates", scene.coordinates.clone())?;
+        Ok(d)
+    }
+
+    /// Time, s.
+    #[getter]
+    fn t(&self) -> f64 {
+        self.shared().state().t
+    }
+
+    /// Steps taken since the simulation (re)started.
+    #[getter]
+    fn step_count(&self) -> u64 {
+        self.shared().stepper().record().step
+    }
+
+    /// Generalised coordinates `q` (a copy).
+    #[getter]
+    fn q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.shared().state().q.as_slice())
+    }
+
+    /// Generalised velocities `u = q̇` (a copy).
+    #[getter]
+    fn u<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.shared().state().u.as_slice())
+    }
+
+    /// Restarts the run at `q`, `u` and time `t` (default: the current time): the step
+    /// count, energy ledger, LCP statistics and flight phases restart; the controller and
+    /// the shapes switched on stay as they are.
+    #[pyo3(signature = (q, u, t = None))]
+    fn set_state(
+        &mut self,
+        q: PyArrayLike1<'_, f64, AllowTypeChange>,
+        u: PyArrayLike1<'_, f64, AllowTypeChange>,
+        t: Option<f64>,
+    ) -> PyResult<()> {
+        let n = self.scene.coordinates.len();
+        let q = q.as_array();
+        let u = u.as_array();
+        if q.len() != n || u.len() != n {
+            return Err(PyValueError::new_err(format!(
+                "q and u must have {n} entries ({}), got {} and {}",
+                self.scene.coordinates.join(", "),
+                q.len(),
+                u.len()
+            )));
+        }
+        let t = t.unwrap_or_else(|| self.shared().state().t);
+        if !t.is_finite() || q.iter().chain(u.iter()).any(|x| !x.is_finite()) {
+            return Err(PyValueError::new_err("t, q and u must be finite"));
+        }
+        let state = State {
+            t,
+            q: DVector::from_iterator(n, q.iter().copied()),
+            u: DVector::from_iterator(n, u.iter().copied()),
+        };
+        self.sim().set_state(state);
+        Ok(())
+    }
+
+    /// Absolute angular velocity of each body, rad/s (a copy).
+    #[getter]
+    fn angular_velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let sim = self.shared();
+        PyArray1::from_slice(py, &sim.stepper().kinematics().angular_velocity)
+    }
+
+    /// Centre-of-mass position of each body, m, shape `(bodies, 2)` (a copy).
+    #[getter]
+    fn body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let sim = self.shared();
+        let p = &sim.stepper().kinematics().position;
+        let flat: Vec<f64> = p.iter().flat_map(|v| [v.x, v.y]).collect();
+        PyArray1::from_vec(py, flat).reshape([p.len(), 2])
+    }
+
+    /// Absolute angle of each body, rad (a copy).
+    #[getter]
+    fn body_angles<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let sim = self.shared();
+        PyArray1::from_slice(py, &sim.stepper().kinematics().angle)
+    }
+
+    /// Whether any contact carried a normal percussion in the last step (what the scene's
+    /// controllers see; true before the first step).
+    #[getter]
+    fn in_contact(&self) -> bool {
+        self.shared().in_contact()
+    }
+
+    /// Flight phases (hops) so far.
+    #[getter]
+    fn hops(&self) -> u64 {
+        self.shared().hops()
+    }
+
+    /// Energies after the last step, J: `kinetic`, `potential`, `spring`, `actuator_work`,
+    /// `dissipated`, `balance_error` (physics.md §6).
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let sim = self.shared();
+        let e = hopsim_record::EnergySample::from_ledger(&sim.stepper().record().energy);
+        let d = PyDict::new(py);
+        for (name, v) in hopsim_record::EnergySample::NAMES.iter().zip(e.values()) {
+            d.set_item(*name, v)?;
+        }
+        Ok(d)
+    }
+
+    /// The contacts of the last step's index set (closed or closing at the midpoint), one
+    /// dict each: `contact` (name), `index`, `gap` (m, ≤ 0, at the midpoint), `point`,
+    /// `normal`, `impulse_normal` and `impulse_tangent` (N s), `slip_velocity` (m/s) and
+    /// `state` (`"open"`, `"stick"` or `"slip"`).
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let sim = self.shared();
+        let list = PyList::empty(py);
+        for c in &sim.stepper().record().contacts {
+            let d = PyDict::new(py);
+            d.set_item("contact", &self.scene.model.contacts[c.contact].name)?;
+            d.set_item("index", c.contact)?;
+            d.set_item("gap", c.gap)?;
+            d.set_item("point", (c.point.x, c.point.y))?;
+            d.set_item("normal", (c.normal.x, c.normal.y))?;
+            d.set_item("impulse_normal", c.impulse_normal)?;
+            d.set_item("impulse_tangent", c.impulse_tangent)?;
+            d.set_item("slip_velocity", c.slip_velocity)?;
+            d.set_item("state", c.state.as_str())?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// The events of the last step (JSON text, as recorded: `t_s`, `step`, `kind`, ...).
+    fn _events(&self) -> PyResult<String> {
+        let sim = self.shared();
+        serde_json::to_string(sim.view().events).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    }
+
+    fn __repr__(&self) -> String {
+        let sim = self.shared();
+        format!(
+            "Simulation({:?}, t={}, step={})",
+            self.scene.title,
+            sim.state().t,
+            sim.stepper().record().step
+        )
+    }
+}

@@ -1,0 +1,103 @@
+//! `hopsim.sweep`: the sweep of hopsim-studies (`hopsim sweep`) over a grid given from
+//! Python, whole or in chunks of runs.
+
+use crate::scene::{overrides_from, scene_error, PyScene};
+use hopsim_sim::GridAxis;
+use hopsim_studies::progress::Silent;
+use hopsim_studies::sweep::{Sweep, SweepBaseline, SweepInputError, SweepParams};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The sweep's parameters: `grid` `[(key, values)]` in axis order (the last varies
+/// fastest), `baselines` `{name: {key: value}}`.
+fn params(
+    grid: Vec<(String, Vec<f64>)>,
+    baselines: Option<&Bound<'_, PyDict>>,
+) -> PyResult<SweepParams> {
+    if grid.is_empty() {
+        return Err(PyValueError::new_err("the grid needs at least one axis"));
+    }
+    let mut axes = Vec::with_capacity(grid.len());
+    for (key, values) in grid {
+        if values.is_empty() || values.iter().any(|v| !v.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "grid axis {key}: needs one or more finite values"
+            )));
+        }
+        axes.push(GridAxis { key, values });
+    }
+    let mut runs = Vec::new();
+    if let Some(baselines) = baselines {
+        for (name, overrides) in baselines.iter() {
+            let overrides = overrides.cast::<PyDict>().map_err(|_| {
+                PyValueError::new_err("baselines must map names to {key: value} dicts")
+            })?;
+            runs.push(SweepBaseline {
+                name: name.extract()?,
+                overrides: overrides_from(Some(overrides))?,
+            });
+        }
+    }
+    Ok(SweepParams {
+        axes,
+        baselines: runs,
+        y: "mean_speed_mps".into(),
+    })
+}
+
+/// The checked sweep of `scene` (its own overrides apply to every run).
+fn checked<'a>(py: Python<'_>, scene: &'a PyScene, params: SweepParams) -> PyResult<Sweep<'a>> {
+    let s = &scene.scene;
+    Sweep::new(s, &s.overrides, params).map_err(|e| match e {
+        SweepInputError::InvalidRun { what, error } => {
+            let err = scene_error(py, &error);
+            let _ = err.value(py).setattr("run", what);
+            err
+        }
+        other => PyValueError::new_err(other.to_string()),
+    })
+}
+
+/// The number of runs of a sweep (grid points, then baselines), after checking it as
+/// `hopsim sweep` does (axes named once, baselines named apart, the grid's first point
+/// and every baseline valid scenes).
+#[pyfunction]
+#[pyo3(signature = (scene, grid, baselines = None))]
+pub fn sweep_runs(
+    py: Python<'_>,
+    scene: &PyScene,
+    grid: Vec<(String, Vec<f64>)>,
+    baselines: Option<&Bound<'_, PyDict>>,
+) -> PyResult<usize> {
+    Ok(checked(py, scene, params(grid, baselines)?)?.runs())
+}
+
+/// Runs the runs `start..stop` of a sweep on `threads` threads (default: all cores), the
+/// GIL released, and returns their rows of `hopsim sweep`'s `sweep.csv` (CSV text with
+/// its header).
+#[pyfunction]
+#[pyo3(signature = (scene, grid, baselines = None, start = 0, stop = None, threads = None))]
+pub fn sweep_csv(
+    py: Python<'_>,
+    scene: &PyScene,
+    grid: Vec<(String, Vec<f64>)>,
+    baselines: Option<&Bound<'_, PyDict>>,
+    start: usize,
+    stop: Option<usize>,
+    threads: Option<usize>,
+) -> PyResult<String> {
+    let sweep = checked(py, scene, params(grid, baselines)?)?;
+    let part = start..stop.unwrap_or(usize::MAX);
+    let run = move || sweep.run_part(part, &Silent).table().to_csv_string();
+    match threads {
+        None => Ok(py.detach(run)),
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            Ok(py.detach(|| pool.install(run)))
+        }
+    }
+}

@@ -1,0 +1,121 @@
+//! The Python package (`python/`, docs/python.md) as a user installs it: a virtual
+//! environment under the cargo target directory, `pip install ./python` (the wheel built
+//! with its own cargo target directory, so that it never waits on this build's lock), the
+//! pytest suite `python/tests` (against this build's `hopsim` binary) and the notebook
+//! `examples/robbit.ipynb` executed with nbclient.
+//!
+//! Needs `python3` (≥ 3.9) with `venv` and a reachable package index. Without them the
+//! test is skipped with a notice, unless HOPSIM_REQUIRE_PYTHON=1 (CI), which makes it fail.
+//! Once the environment is there, a failed wheel build, test or notebook always fails.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The packages the tests and the notebook use besides `hopsim` itself.
+const TEST_PACKAGES: &[&str] = &[
+    "numpy",
+    "pytest",
+    "dask[distributed]",
+    "pandas",
+    "matplotlib",
+    "nbclient",
+    "nbformat",
+    "ipykernel",
+];
+
+fn python_required() -> bool {
+    std::env::var("HOPSIM_REQUIRE_PYTHON").is_ok_and(|v| v == "1")
+}
+
+/// Skips (with a notice) or fails, following HOPSIM_REQUIRE_PYTHON.
+fn skip_or_fail(what: &str) {
+    assert!(
+        !python_required(),
+        "{what}; HOPSIM_REQUIRE_PYTHON=1 requires it (python3 ≥ 3.9 with venv, and pip able to install packages)"
+    );
+    eprintln!("notice: skipping the Python package tests: {what} (set HOPSIM_REQUIRE_PYTHON=1 to make this an error)");
+}
+
+/// Runs `command`, echoing its output; whether it succeeded (`None`: program missing).
+fn run(command: &mut Command) -> Option<bool> {
+    match command.status() {
+        Ok(status) => Some(status.success()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => panic!("could not run {command:?}: {e}"),
+    }
+}
+
+/// The cargo target directory of this build: the `hopsim` binary is `<target>/<profile>/hopsim`.
+fn target_dir() -> PathBuf {
+    let bin = Path::new(env!("CARGO_BIN_EXE_hopsim"));
+    bin.parent()
+        .and_then(Path::parent)
+        .expect("the hopsim binary lies in <target>/<profile>/")
+        .to_path_buf()
+}
+
+#[test]
+fn python_package_installs_and_passes_its_tests_and_notebook() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let target = target_dir();
+    let venv = target.join("python-venv");
+    let python = std::env::var("HOPSIM_PYTHON").unwrap_or_else(|_| "python3".into());
+    let version_ok = run(Command::new(&python).args([
+        "-c",
+        "import sys, venv; sys.exit(sys.version_info < (3, 9))",
+    ]));
+    if version_ok != Some(true) {
+        return skip_or_fail(&format!("{python} (≥ 3.9, with venv) is not available"));
+    }
+    let venv_python = venv.join("bin").join("python");
+    if !venv_python.exists()
+        && run(Command::new(&python).args(["-m", "venv"]).arg(&venv)) != Some(true)
+    {
+        return skip_or_fail(&format!(
+            "cannot create a virtual environment at {}",
+            venv.display()
+        ));
+    }
+    let pip = |args: &[&str]| {
+        let mut c = Command::new(&venv_python);
+        c.args([
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+        ])
+        .args(args);
+        c
+    };
+    if run(&mut pip(TEST_PACKAGES)) != Some(true) {
+        return skip_or_fail(&format!("pip cannot install {}", TEST_PACKAGES.join(", ")));
+    }
+    // The package itself: a failure here is a failure of this repository.
+    let installed = run(pip(&["--force-reinstall", "--no-deps"])
+        .arg(repo.join("python"))
+        .env("CARGO_TARGET_DIR", target.join("python-wheel")));
+    assert_eq!(installed, Some(true), "pip install ./python failed");
+
+    let pytest = run(Command::new(&venv_python)
+        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
+        .arg(repo.join("python").join("tests"))
+        .env("HOPSIM_BIN", env!("CARGO_BIN_EXE_hopsim"))
+        .current_dir(repo));
+    assert_eq!(pytest, Some(true), "the Python tests failed");
+
+    let notebook = repo.join("examples").join("robbit.ipynb");
+    let execute = format!(
+        "import nbformat, nbclient\n\
+         nb = nbformat.read({path:?}, as_version=4)\n\
+         nbclient.NotebookClient(nb, timeout=300, kernel_name='python3',\n\
+             resources={{'metadata': {{'path': {dir:?}}}}}).execute()\n\
+         print('notebook ran:', len(nb.cells), 'cells')\n",
+        path = notebook.display().to_string(),
+        dir = repo.join("examples").display().to_string(),
+    );
+    let ran = run(Command::new(&venv_python)
+        .args(["-c", &execute])
+        .current_dir(repo));
+    assert_eq!(ran, Some(true), "examples/robbit.ipynb failed to run");
+}
