@@ -100,3 +100,36 @@ fn figures_are_written_as_png_and_svg() {
     assert!(write_png_and_svg(&bad, &dir.path().join("bad")).is_err());
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 6);
 }
+
+/// A set of report files is written whole or not at all: a figure that cannot be drawn,
+/// listed after a CSV table and a good figure, leaves none of them (and no temporary file).
+#[test]
+fn a_failed_file_leaves_none_of_its_set() {
+    use hopsim_io::CsvTable;
+    use hopsim_studies::{write_files, ReportFile};
+    let dir = tempfile::tempdir().unwrap();
+    let mut table = CsvTable::new(&["a"]);
+    table.push(vec![1.0.into()]);
+    let good = LinePlot::new("good", "x [m]", "y [m]")
+        .with_series(Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]));
+    let bad = Heatmap::new(
+        "bad",
+        "x",
+        "y",
+        "v",
+        vec![0.0, 1.0],
+        vec![0.0],
+        vec![Some(1.0)],
+    );
+    let files = [
+        ReportFile::csv("table.csv", table),
+        ReportFile::figure("good", good),
+        ReportFile::figure("bad", bad),
+    ];
+    assert!(write_files(dir.path(), &files).is_err());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    // Without the bad figure the whole set appears.
+    let written = write_files(dir.path(), &files[..2]).unwrap();
+    assert_eq!(written.len(), 3);
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
+}
