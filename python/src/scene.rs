@@ -1,7 +1,7 @@
 //! `hopsim.Scene` and `hopsim.SceneError`: a validated scene file, shared by the
 //! simulations and sweeps made from it.
 
-use hopsim_control::ControllerConfig;
+use hopsim_control::{ControllerConfig, Release};
 use hopsim_scene::{Location, Override};
 use numpy::PyArray1;
 use pyo3::create_exception;
@@ -330,7 +330,16 @@ impl PyScene {
                 d.set_item("flywheel", c.flywheel)?;
                 d.set_item("torque", c.torque)?;
                 d.set_item("impulse_limit", c.impulse_limit)?;
-                d.set_item("rearm_timeout", c.rearm_timeout)?;
+                match c.release {
+                    Release::Touchdown { rearm_timeout } => {
+                        d.set_item("release", "touchdown")?;
+                        d.set_item("rearm_timeout", rearm_timeout)?;
+                    }
+                    Release::OffTime { off_time } => {
+                        d.set_item("release", "off_time")?;
+                        d.set_item("off_time", off_time)?;
+                    }
+                }
                 d.set_item("hold_brake", c.hold_brake)?;
             }
             ControllerConfig::Pulse(c) => {

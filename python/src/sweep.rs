@@ -4,7 +4,7 @@
 use crate::scene::{overrides_from, scene_error, PyScene};
 use hopsim_sim::GridAxis;
 use hopsim_studies::progress::Silent;
-use hopsim_studies::sweep::{Sweep, SweepBaseline, SweepInputError, SweepParams};
+use hopsim_studies::sweep::{Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -43,6 +43,8 @@ fn params(
         axes,
         baselines: runs,
         y: "mean_speed_mps".into(),
+        // The command line's default limit (`hopsim sweep --max-runs`).
+        max_runs: DEFAULT_MAX_RUNS,
     })
 }
 
