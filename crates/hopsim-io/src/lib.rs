@@ -6,9 +6,11 @@
 //! flushed, synced, and renamed over the target only when complete.
 
 mod atomic;
+mod bounded;
 mod csv;
 
 pub use atomic::{create_dir, remove_temporary_files, write_atomically, AtomicFile, AtomicPath};
+pub use bounded::{read_bounded, read_text_bounded, Content};
 pub use csv::{csv_field, Cell, CsvTable};
 
 use std::path::{Path, PathBuf};

@@ -9,7 +9,6 @@ use hopsim_step::{ImpulseSample, ImpulseTrace};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::{MessageStream, Summary};
 use std::collections::BTreeMap;
-use std::io::{Error, ErrorKind, Read};
 use std::path::Path;
 
 /// Largest recording [`McapRecording::read`] reads, bytes (2 GiB; the whole file is held in
@@ -249,56 +248,12 @@ fn attachment_fits(body: &[u8]) -> bool {
 /// limit, and refused at once when it neither starts with the MCAP magic nor is text (a
 /// NUL byte), so `/dev/zero` or `/dev/urandom` costs one block.
 pub(crate) fn read_input(path: &Path, limit: u64) -> Result<Vec<u8>, RecordError> {
-    let io = |e| RecordError::io(path, e);
-    let too_large = || {
-        io(Error::new(
-            ErrorKind::FileTooLarge,
-            format!(
-                "the file is larger than the {} MiB limit of recordings",
-                limit >> 20
-            ),
-        ))
+    let content = hopsim_io::Content::MagicOrText {
+        magic: mcap::MAGIC,
+        format: "MCAP",
     };
-    let mut file = std::fs::File::open(path).map_err(io)?;
-    if file
-        .metadata()
-        .is_ok_and(|m| m.is_file() && m.len() > limit)
-    {
-        return Err(too_large());
-    }
-    let mut bytes = Vec::new();
-    let mut block = vec![0u8; 1 << 16];
-    let mut binary = None;
-    let mut checked = 0;
-    loop {
-        let n = match file.read(&mut block) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
-            Err(e) => return Err(io(e)),
-        };
-        if (bytes.len() + n) as u64 > limit {
-            return Err(too_large());
-        }
-        bytes.extend_from_slice(&block[..n]);
-        if binary.is_none() && bytes.len() >= mcap::MAGIC.len() {
-            binary = Some(bytes.starts_with(mcap::MAGIC));
-        }
-        if binary == Some(false) {
-            if let Some(i) = bytes[checked..].iter().position(|&b| b == 0) {
-                return Err(io(Error::new(
-                    ErrorKind::InvalidData,
-                    format!(
-                        "neither an MCAP file (no MCAP magic at the start) nor text (NUL byte \
-                         at offset {})",
-                        checked + i
-                    ),
-                )));
-            }
-            checked = bytes.len();
-        }
-    }
-    Ok(bytes)
+    hopsim_io::read_bounded(path, limit, "recordings", content)
+        .map_err(|e| RecordError::io(path, e))
 }
 
 /// The values of `map` in the order of `names`.

@@ -12,7 +12,6 @@ use hopsim_control::ControllerConfig;
 use hopsim_model::{Kinematics, Model, ModelError, Vec2};
 use hopsim_step::{State, StepSettings};
 use nalgebra::DVector;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Gaps below `-PENETRATION_TOL` at the initial state are rejected, m.
@@ -74,55 +73,9 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
 /// regular file above the limit is refused unread; any other input (a pipe, a device) is
 /// read in blocks and refused at its first NUL byte or at the limit.
 fn read_bounded(path: &Path, limit: u64) -> Result<String, SceneError> {
-    use std::io::{Error, ErrorKind};
-    let io = |source| SceneError::Io {
+    hopsim_io::read_text_bounded(path, limit, "scene files").map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
-    };
-    let too_large = || {
-        io(Error::new(
-            ErrorKind::FileTooLarge,
-            format!(
-                "the file is larger than the {} MiB limit of scene files",
-                limit >> 20
-            ),
-        ))
-    };
-    let mut file = std::fs::File::open(path).map_err(io)?;
-    if file
-        .metadata()
-        .is_ok_and(|m| m.is_file() && m.len() > limit)
-    {
-        return Err(too_large());
-    }
-    let mut bytes = Vec::new();
-    let mut block = vec![0u8; 1 << 16];
-    loop {
-        let n = match file.read(&mut block) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
-            Err(e) => return Err(io(e)),
-        };
-        if let Some(i) = block[..n].iter().position(|&b| b == 0) {
-            return Err(io(Error::new(
-                ErrorKind::InvalidData,
-                format!("not a text file (NUL byte at offset {})", bytes.len() + i),
-            )));
-        }
-        if (bytes.len() + n) as u64 > limit {
-            return Err(too_large());
-        }
-        bytes.extend_from_slice(&block[..n]);
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        io(Error::new(
-            ErrorKind::InvalidData,
-            format!(
-                "not a text file (invalid UTF-8 at offset {})",
-                e.utf8_error().valid_up_to()
-            ),
-        ))
     })
 }
 

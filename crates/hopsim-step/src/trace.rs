@@ -333,52 +333,7 @@ impl ImpulseTrace {
 /// regular file above the limit is refused unread; any other input is read in blocks and
 /// refused at its first NUL byte or at the limit.
 fn read_text(path: &Path, limit: u64) -> std::io::Result<String> {
-    use std::io::{Error, ErrorKind, Read};
-    let too_large = || {
-        Error::new(
-            ErrorKind::FileTooLarge,
-            format!(
-                "the file is larger than the {} MiB limit of impulse traces",
-                limit >> 20
-            ),
-        )
-    };
-    let mut file = std::fs::File::open(path)?;
-    if file
-        .metadata()
-        .is_ok_and(|m| m.is_file() && m.len() > limit)
-    {
-        return Err(too_large());
-    }
-    let mut bytes = Vec::new();
-    let mut block = vec![0u8; 1 << 16];
-    loop {
-        let n = match file.read(&mut block) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if let Some(i) = block[..n].iter().position(|&b| b == 0) {
-            return Err(Error::new(
-                ErrorKind::InvalidData,
-                format!("not a text file (NUL byte at offset {})", bytes.len() + i),
-            ));
-        }
-        if (bytes.len() + n) as u64 > limit {
-            return Err(too_large());
-        }
-        bytes.extend_from_slice(&block[..n]);
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        Error::new(
-            ErrorKind::InvalidData,
-            format!(
-                "not a text file (invalid UTF-8 at offset {})",
-                e.utf8_error().valid_up_to()
-            ),
-        )
-    })
+    hopsim_io::read_text_bounded(path, limit, "impulse traces")
 }
 
 /// A trace's sample identity: step and channel.
