@@ -11,7 +11,7 @@
 
 use crate::error::{AnalysisError, Result};
 use crate::grid::{par_map, Progress};
-use crate::numerics::{eigenvalues_2x2, levenberg_marquardt, linspace, Complex, LmSettings};
+use crate::numerics::{eigenvalues_2x2, levenberg_marquardt_from, linspace, Complex, LmSettings};
 use crate::robbit::{cycle, return_map, Control, Cycle, NoCycle, RobbitParams, SectionState};
 use serde::Serialize;
 use std::fmt;
@@ -264,7 +264,8 @@ pub fn find_fixed_point(
         inside.then_some(c)
     };
     let mut first_failure: Option<NoCycle> = None;
-    let mut starts: Vec<([f64; 2], f64)> = Vec::new();
+    // Each start's log-control, residual and residual norm.
+    let mut starts: Vec<([f64; 2], [f64; 2], f64)> = Vec::new();
     for &torque in &settings.torque_guesses {
         for &impulse_limit in &settings.impulse_guesses {
             let log = [torque.ln(), impulse_limit.ln()];
@@ -272,7 +273,7 @@ pub fn find_fixed_point(
                 continue;
             };
             match residual(p, z, &control) {
-                Ok(r) => starts.push((log, r[0].hypot(r[1]))),
+                Ok(r) => starts.push((log, r, r[0].hypot(r[1]))),
                 // The brake's lift-off does not depend on β: no cycle at all.
                 Err(reason @ NoCycle::NoLiftOff { .. }) => {
                     return Ok(Err(NoFixedPoint::NoCycle { reason }))
@@ -283,13 +284,14 @@ pub fn find_fixed_point(
             }
         }
     }
-    starts.sort_by(|a, b| a.1.total_cmp(&b.1));
+    starts.sort_by(|a, b| a.2.total_cmp(&b.2));
     let mut closest: Option<(f64, Control)> = None;
     let mut found: Vec<(Control, usize, f64, Cycle)> = Vec::new();
-    for (log, _) in starts.iter().take(settings.max_starts) {
-        let run = levenberg_marquardt(
+    for (log, r0, _) in starts.iter().take(settings.max_starts) {
+        let run = levenberg_marquardt_from(
             |x: &[f64; 2]| bounded(x).and_then(|c| residual(p, z, &c).ok()),
             *log,
+            Some(*r0),
             &settings.lm,
         );
         let Some(run) = run else { continue };

@@ -164,6 +164,22 @@ pub fn dormand_prince_step<const N: usize>(
     y: &[f64; N],
     h: f64,
 ) -> ([f64; N], [f64; N]) {
+    let (y5, err, _) = dormand_prince_stages(f, t, y, &f(t, y), h);
+    (y5, err)
+}
+
+/// [`dormand_prince_step`] given its first stage `k0 = f(t, y)`, which does not depend on
+/// `h` (so a step retried with another `h`, or the trial steps of an event search, share
+/// it). Also returns the last stage `f(t + h, y5)`: the method is "first same as last", so
+/// that stage is the next step's `k0`, bit for bit (its state is `y5`, summed in the same
+/// order).
+pub fn dormand_prince_stages<const N: usize>(
+    f: &impl Fn(f64, &[f64; N]) -> [f64; N],
+    t: f64,
+    y: &[f64; N],
+    k0: &[f64; N],
+    h: f64,
+) -> ([f64; N], [f64; N], [f64; N]) {
     const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
     const A: [[f64; 6]; 7] = [
         [0.0; 6],
@@ -210,7 +226,8 @@ pub fn dormand_prince_step<const N: usize>(
         1.0 / 40.0,
     ];
     let mut k = [[0.0; N]; 7];
-    for stage in 0..7 {
+    k[0] = *k0;
+    for stage in 1..7 {
         let mut ys = *y;
         for (j, a) in A[stage].iter().enumerate().take(stage) {
             for i in 0..N {
@@ -227,7 +244,7 @@ pub fn dormand_prince_step<const N: usize>(
             err[i] += h * (B5[stage] - B4[stage]) * k[stage][i];
         }
     }
-    (y5, err)
+    (y5, err, k[6])
 }
 
 /// The scaled error norm of a Dormand–Prince step (≤ 1 means accept).
@@ -334,8 +351,10 @@ pub fn integrate_to_event<const N: usize, B>(
         return OdeEnd::Event { t, y };
     }
     let mut h = settings.initial_step.min(settings.max_step);
+    // The first stage of the next step (first same as last: the accepted step's last stage).
+    let mut k0 = f(t, &y);
     for _ in 0..settings.max_steps {
-        let (y_new, err) = dormand_prince_step(f, t, &y, h);
+        let (y_new, err, k_last) = dormand_prince_stages(f, t, &y, &k0, h);
         let norm = error_norm(&y, &y_new, &err, settings.rtol, settings.atol);
         if !norm.is_finite() {
             return OdeEnd::NonFinite { t };
@@ -346,15 +365,16 @@ pub fn integrate_to_event<const N: usize, B>(
         }
         if event(t + h, &y_new) >= 0.0 {
             let (t_start, y_start) = (t, y);
+            let step = |s: f64| dormand_prince_stages(f, t_start, &y_start, &k0, s).0;
             let value = |s: f64| {
                 if s == 0.0 {
                     event(t_start, &y_start)
                 } else {
-                    event(t_start + s, &dormand_prince_step(f, t_start, &y_start, s).0)
+                    event(t_start + s, &step(s))
                 }
             };
             let s = brent(value, 0.0, h, 1e-15 * settings.max_step).unwrap_or(h);
-            let y_event = dormand_prince_step(f, t_start, &y_start, s).0;
+            let y_event = step(s);
             return OdeEnd::Event {
                 t: t_start + s,
                 y: y_event,
@@ -362,6 +382,7 @@ pub fn integrate_to_event<const N: usize, B>(
         }
         t += h;
         y = y_new;
+        k0 = k_last;
         if let Some(reason) = accepted(t, &y) {
             return OdeEnd::Stopped { t, reason };
         }
@@ -427,9 +448,21 @@ pub fn levenberg_marquardt<const N: usize, const M: usize>(
     x0: [f64; N],
     settings: &LmSettings,
 ) -> Option<LmResult<N>> {
+    let r0 = residual(&x0);
+    levenberg_marquardt_from(residual, x0, r0, settings)
+}
+
+/// [`levenberg_marquardt`] from `x0` with its residual `r0 = r(x0)` already evaluated (a
+/// multi-start search ranks its starts by it); counted as the first evaluation.
+pub fn levenberg_marquardt_from<const N: usize, const M: usize>(
+    mut residual: impl FnMut(&[f64; N]) -> Option<[f64; M]>,
+    x0: [f64; N],
+    r0: Option<[f64; M]>,
+    settings: &LmSettings,
+) -> Option<LmResult<N>> {
     let norm = |r: &[f64; M]| r.iter().map(|v| v * v).sum::<f64>().sqrt();
     let mut x = x0;
-    let mut r = residual(&x).filter(|r| r.iter().all(|v| v.is_finite()))?;
+    let mut r = r0.filter(|r| r.iter().all(|v| v.is_finite()))?;
     let mut evaluations = 1;
     let mut cost = norm(&r);
     let mut lambda = settings.initial_damping;

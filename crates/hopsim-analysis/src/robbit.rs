@@ -154,8 +154,13 @@ impl RobbitParams {
     /// `m R² + m a² + I_S − 2 m R a cos φ`: the body's inertia about the contact point while
     /// rolling (the denominator of [5.15]).
     pub fn rolling_inertia(&self, phi: f64) -> f64 {
+        self.rolling_inertia_at(phi.cos())
+    }
+
+    /// [`RobbitParams::rolling_inertia`] from `cos φ`.
+    fn rolling_inertia_at(&self, cos: f64) -> f64 {
         let (r, a) = (self.radius, self.eccentricity);
-        self.total_mass() * (r * r + a * a - 2.0 * r * a * phi.cos()) + self.body_inertia
+        self.total_mass() * (r * r + a * a - 2.0 * r * a * cos) + self.body_inertia
     }
 
     /// CoM height while the disc touches the ground, `y = R − a cos φ`.
@@ -174,18 +179,27 @@ impl RobbitParams {
 
     /// [5.15]: `φ̈ = −(T + m g a sin φ + m a R φ̇² sin φ) / (m R² + m a² + I_S − 2 m R a cos φ)`.
     pub fn stance_acceleration(&self, torque: f64, phi: f64, phi_dot: f64) -> f64 {
+        self.stance_acceleration_at(torque, phi.sin_cos(), phi_dot)
+    }
+
+    /// [`RobbitParams::stance_acceleration`] from `(sin φ, cos φ)`.
+    fn stance_acceleration_at(&self, torque: f64, (sin, cos): (f64, f64), phi_dot: f64) -> f64 {
         let m = self.total_mass();
         let a = self.eccentricity;
-        -(torque + m * a * phi.sin() * (self.gravity + self.radius * phi_dot * phi_dot))
-            / self.rolling_inertia(phi)
+        -(torque + m * a * sin * (self.gravity + self.radius * phi_dot * phi_dot))
+            / self.rolling_inertia_at(cos)
     }
 
     /// Ground force while rolling, `(F_T, F_N) = m (ẍ, ÿ + g)` [N], from the rolling
     /// kinematics at `(φ, φ̇, φ̈)`.
     pub fn ground_force(&self, phi: f64, phi_dot: f64, phi_ddot: f64) -> [f64; 2] {
+        self.ground_force_at(phi.sin_cos(), phi_dot, phi_ddot)
+    }
+
+    /// [`RobbitParams::ground_force`] from `(sin φ, cos φ)`.
+    fn ground_force_at(&self, (s, c): (f64, f64), phi_dot: f64, phi_ddot: f64) -> [f64; 2] {
         let m = self.total_mass();
         let (a, r) = (self.eccentricity, self.radius);
-        let (s, c) = phi.sin_cos();
         [
             m * (phi_ddot * (a * c - r) - a * s * phi_dot * phi_dot),
             m * (self.gravity + a * c * phi_dot * phi_dot + a * s * phi_ddot),
@@ -492,7 +506,9 @@ pub fn stance(
             }
             last_rate = y[1];
         }
-        let [ft, fnorm] = p.ground_force(y[0], y[1], p.stance_acceleration(torque, y[0], y[1]));
+        // One `sin_cos` for the acceleration and the force.
+        let sc = y[0].sin_cos();
+        let [ft, fnorm] = p.ground_force_at(sc, y[1], p.stance_acceleration_at(torque, sc, y[1]));
         min_normal_force = min_normal_force.min(fnorm);
         if fnorm > 0.0 {
             max_friction_ratio = max_friction_ratio.max(ft.abs() / fnorm);

@@ -66,7 +66,7 @@ pub(crate) fn primary(
     settings: &Settings,
     out: &mut Primary,
 ) -> Result<(), LcpInputError> {
-    #[cfg(target_arch = "x86_64")]
+    #[cfg(all(target_arch = "x86_64", not(feature = "portable")))]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2, the only requirement of `primary_avx2`.
         return unsafe { primary_avx2(work, m_copy, m, q, z, w, settings, out) };
@@ -143,6 +143,7 @@ macro_rules! hot_path {
 hot_path!(primary_portable, fixed_portable);
 hot_path!(
     #[cfg(target_arch = "x86_64")]
+    #[cfg_attr(feature = "portable", allow(dead_code))]
     #[target_feature(enable = "avx2")]
     primary_avx2,
     fixed_avx2

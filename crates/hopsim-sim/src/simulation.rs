@@ -118,6 +118,12 @@ impl<'s> Simulation<'s> {
         self.was_loaded.fill(false);
     }
 
+    /// Keeps the stepper's energy account or not ([`Stepper::set_ledger`]; on by default):
+    /// a run whose observers read no energies can switch it off before its first step.
+    pub fn set_ledger(&mut self, on: bool) {
+        self.stepper.set_ledger(on);
+    }
+
     /// The actuation of the last step (the controller's or the caller's).
     pub fn actuation(&self) -> &Actuation {
         &self.actuation

@@ -46,6 +46,11 @@ fn robbit_step(c: &mut Criterion) {
         &start,
         &act,
     );
+    // The same steps with nobody reading the energies (no energy account).
+    let mut unobserved = common::stepper(&model, 2e-4);
+    unobserved.set_ledger(false);
+    let name = "robbit_step_in_stance_no_ledger";
+    bench_stance(c, name, &model, &mut unobserved, &start, &act);
     let mut flying = common::state(&[0.0, 1.0, 0.0, 0.0], &[0.0; 4]);
     c.bench_function("robbit_step_in_flight", |b| {
         b.iter(|| {

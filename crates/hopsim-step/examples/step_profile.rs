@@ -4,10 +4,12 @@
 //! ```text
 //! step_profile flight 22000      # valgrind --tool=callgrind: instructions per step are
 //! step_profile flight 2000       # the difference of two runs divided by 20 000
+//! step_profile stance 22000 no-ledger    # without the energy account
 //! perf record -e cpu-clock step_profile stance 3000000
 //! ```
 //!
-//! (valgrind 3.19 cannot run the LCP's AVX2 path, so stance steps are profiled by sampling.)
+//! valgrind 3.19 cannot decode the LCP's AVX2 path: count the stance steps of a build with
+//! `--features hopsim-lcp/portable` (docs/performance.md).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -19,8 +21,10 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let phase = args.next().unwrap_or_else(|| "stance".into());
     let steps: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(100_000);
+    let ledger = args.next().as_deref() != Some("no-ledger");
     let model = common::robbit();
     let mut stepper = common::stepper(&model, 2e-4);
+    stepper.set_ledger(ledger);
     let start = match phase.as_str() {
         "flight" => common::state(&[0.0, 1.0, 0.0, 0.0], &[0.0; 4]),
         _ => common::state(&[0.0, 0.1, 0.0, 0.0], &[0.0; 4]),

@@ -159,6 +159,8 @@ pub struct Stepper {
     lcp: LemkeSolver,
     record: StepRecord,
     stats: LcpStats,
+    /// Whether stage 9 keeps the energy account (see [`Stepper::set_ledger`]).
+    ledger: bool,
 }
 
 impl Stepper {
@@ -225,6 +227,7 @@ impl Stepper {
                 ..StepRecord::default()
             },
             stats: LcpStats::default(),
+            ledger: true,
         }
     }
 
@@ -256,6 +259,16 @@ impl Stepper {
     /// Kinematics at the end of the last step (or at the start state).
     pub fn kinematics(&self) -> &Kinematics {
         &self.kinematics
+    }
+
+    /// Keeps the energy account of the record ([`StepRecord::energy`]: the energies at the
+    /// end of each step and the cumulative works, physics.md §6.1) or not (on by default).
+    /// Nothing in a step reads it, so a run that nobody watches for energies can skip its
+    /// cost; switched off, `record().energy` keeps the values of [`Stepper::start`]. The
+    /// gaps and the lock impulses of the record are kept either way. Switch it before a
+    /// run: the works are sums over every step since the start.
+    pub fn set_ledger(&mut self, on: bool) {
+        self.ledger = on;
     }
 
     /// Resets the record and energy account to `state` at the start of a run.
@@ -507,8 +520,10 @@ impl Stepper {
         tangents.copy_from_slice(&self.w_t[..k * n]);
         limits.copy_from_slice(&self.w_limit[..l * n]);
         self.factor.solve(solved);
-        for row in solved[n..].chunks_exact_mut(n) {
-            self.locks.project(row);
+        if self.locks.count > 0 {
+            for row in solved[n..].chunks_exact_mut(n) {
+                self.locks.project(row);
+            }
         }
         for ((ut, a), g) in self
             .u_tilde
@@ -815,13 +830,23 @@ impl Stepper {
     }
 
     /// Stage 9, for observers only (physics.md §6.1): the step's works and lock impulses
-    /// ([`Stepper::add_works`]), then the energies and the gaps at the end of the step.
+    /// ([`Stepper::add_works`]), then the energies and the gaps at the end of the step;
+    /// without the energy account ([`Stepper::set_ledger`]) only the lock impulses and the
+    /// gaps.
     #[inline]
     fn ledger(&mut self, model: &Model, actuation: &Actuation) {
-        self.add_works(actuation);
-        let mut energy = self.record.energy;
-        self.fill_energies(model, &mut energy);
-        self.record.energy = energy;
+        if self.ledger {
+            self.add_works(actuation);
+            let mut energy = self.record.energy;
+            self.fill_energies(model, &mut energy);
+            self.record.energy = energy;
+        } else {
+            self.record.locks.clear();
+            if !actuation.locks.is_empty() {
+                self.lock_force();
+                self.push_lock_records(actuation);
+            }
+        }
         self.fill_gaps(model);
     }
 
@@ -852,35 +877,47 @@ impl Stepper {
             energy.limit_work += self.lambda_limit[r] * dot(row(&self.w_limit, n, r), mean);
         }
         self.record.locks.clear();
-        let locks = actuation.locks.len();
-        if locks > 0 {
-            // B P = M (u^E − u^A) − h Δt − impulses − W Λ; reuse `force` for B P.
-            for i in 0..n {
-                let row = &self.mass[i * n..(i + 1) * n];
-                let mut rhs = -self.force[i];
-                for (m, (e, a)) in row.iter().zip(self.u_end.iter().zip(u)) {
-                    rhs += m * (e - a);
-                }
-                for c in 0..k {
-                    rhs -= self.w_n[c * n + i] * self.lambda_n[c]
-                        + self.w_t[c * n + i] * self.lambda_t[c];
-                }
-                for r in 0..l {
-                    rhs -= self.w_limit[r * n + i] * self.lambda_limit[r];
-                }
-                self.force[i] = rhs;
-            }
-            energy.lock_work += dot(&self.force, mean);
-            let impulses = self.locks.impulses(&self.force);
-            for (&(body, other), &impulse) in actuation.locks.iter().zip(impulses) {
-                self.record.locks.push(LockRecord {
-                    body,
-                    other,
-                    impulse,
-                });
-            }
+        if !actuation.locks.is_empty() {
+            self.lock_force();
+            energy.lock_work += dot(&self.force, &self.scratch[..n]);
+            self.push_lock_records(actuation);
         }
         self.record.energy = energy;
+    }
+
+    /// The generalised lock force `B P = M (u^E − u^A) − h Δt − impulses − W Λ` of the
+    /// step (physics.md §4.4), into `force` (which held `h Δt + impulses`).
+    fn lock_force(&mut self) {
+        let n = self.n;
+        let k = self.active.len();
+        let l = self.active_limits.len();
+        for i in 0..n {
+            let row = &self.mass[i * n..(i + 1) * n];
+            let mut rhs = -self.force[i];
+            for (m, (e, a)) in row.iter().zip(self.u_end.iter().zip(&self.u_start)) {
+                rhs += m * (e - a);
+            }
+            for c in 0..k {
+                rhs -=
+                    self.w_n[c * n + i] * self.lambda_n[c] + self.w_t[c * n + i] * self.lambda_t[c];
+            }
+            for r in 0..l {
+                rhs -= self.w_limit[r * n + i] * self.lambda_limit[r];
+            }
+            self.force[i] = rhs;
+        }
+    }
+
+    /// The lock impulses `P` of `B P` (in `force`, [`Stepper::lock_force`]) into the record.
+    fn push_lock_records(&mut self, actuation: &Actuation) {
+        let impulses = self.locks.impulses(&self.force);
+        for (&(body, other), &impulse) in actuation.locks.iter().zip(impulses) {
+            self.record.locks.push(LockRecord {
+                body,
+                other,
+                impulse,
+            });
+        }
     }
 }
 

@@ -81,3 +81,39 @@ fn energy_balance_closes_over_a_long_two_body_run() {
         "balance error did not shrink with Δt: {coarse} → {fine}"
     );
 }
+
+/// The energy account is for observers only: switched off, a run of the hopper with
+/// motor pulses, brakes and contacts takes the same steps (states, contact and lock
+/// impulses bit for bit), and the record's energies stay those of the start.
+#[test]
+fn the_energy_account_does_not_change_the_run() {
+    let model = two_body_hopper(0.8);
+    let dt = 2e-4;
+    let run = |ledger: bool| {
+        let mut st = stepper(&model, dt);
+        st.set_ledger(ledger);
+        let mut s = two_body_hopper_state(&model, 0.02);
+        let start = st.start(&model, &s).energy;
+        let mut act = Actuation::default();
+        let mut impulses = Vec::new();
+        for k in 0..10_000u32 {
+            act.clear();
+            act.torques
+                .push(motor(if k % 1500 < 500 { 0.4 } else { -0.1 }));
+            if k % 2250 == 2249 {
+                act.locks.push((1, 0));
+            }
+            let rec = st.step(&model, &mut s, &act).expect("step");
+            impulses.extend(rec.contacts.iter().map(|c| c.impulse_normal.to_bits()));
+            impulses.extend(rec.locks.iter().map(|l| l.impulse.to_bits()));
+        }
+        (s, impulses, start, st.record().energy)
+    };
+    let (with, without) = (run(true), run(false));
+    assert_eq!(with.0, without.0);
+    assert_eq!(with.1, without.1);
+    // Four brakes and many contact steps were compared.
+    assert!(with.1.len() > 4, "{}", with.1.len());
+    assert_ne!(with.3, with.2);
+    assert_eq!(without.3, without.2);
+}
