@@ -342,6 +342,36 @@ impl<'a> Table<'a> {
             .map(Some)
     }
 
+    /// An optional list of strings (`None` when absent); `len` fixes its length if given.
+    pub fn opt_str_list(
+        &self,
+        key: &'static str,
+        len: Option<usize>,
+    ) -> Result<Option<Vec<&'a str>>, SceneError> {
+        let Some(node) = self.get(key) else {
+            return Ok(None);
+        };
+        let expected = match len {
+            Some(n) => format!("an array of {n} strings"),
+            None => "an array of strings".to_string(),
+        };
+        let Kind::Array(items) = &node.kind else {
+            return Err(self.wrong(key, node, &expected));
+        };
+        if len.is_some_and(|n| n != items.len()) {
+            return Err(self.wrong(key, node, &expected));
+        }
+        items
+            .iter()
+            .enumerate()
+            .map(|(i, item)| match &item.kind {
+                Kind::Str(s) => Ok(s.as_str()),
+                _ => Err(self.wrong(&format!("{key}[{i}]"), item, "a string")),
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
     /// A 2-vector `[x, y]` with a default (`None`: required).
     pub fn vec2(
         &self,
