@@ -311,6 +311,37 @@ impl<'a> Table<'a> {
         ))
     }
 
+    /// A list of values (`None` when absent), each read by `item` from its path
+    /// (`key[i]`) and node; `len` fixes its length if given, `what` names the values in
+    /// messages ("numbers (m)", "strings").
+    fn opt_list<T>(
+        &self,
+        key: &'static str,
+        len: Option<usize>,
+        what: &str,
+        item: impl Fn(&str, &'a Node) -> Result<T, SceneError>,
+    ) -> Result<Option<Vec<T>>, SceneError> {
+        let Some(node) = self.get(key) else {
+            return Ok(None);
+        };
+        let expected = match len {
+            Some(n) => format!("an array of {n} {what}"),
+            None => format!("an array of {what}"),
+        };
+        let Kind::Array(items) = &node.kind else {
+            return Err(self.wrong(key, node, &expected));
+        };
+        if len.is_some_and(|n| n != items.len()) {
+            return Err(self.wrong(key, node, &expected));
+        }
+        items
+            .iter()
+            .enumerate()
+            .map(|(i, node)| item(&format!("{key}[{i}]"), node))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
     /// A list of numbers (`None` when absent); `len` fixes its length if given.
     pub fn opt_f64_list(
         &self,
@@ -318,58 +349,20 @@ impl<'a> Table<'a> {
         len: Option<usize>,
         num: Num,
     ) -> Result<Option<Vec<f64>>, SceneError> {
-        let Some(node) = self.get(key) else {
-            return Ok(None);
-        };
-        let expected = match len {
-            Some(n) => format!("an array of {n} numbers ({})", num.expected()),
-            None => format!("an array of numbers ({})", num.expected()),
-        };
-        let Kind::Array(items) = &node.kind else {
-            return Err(self.wrong(key, node, &expected));
-        };
-        if len.is_some_and(|n| n != items.len()) {
-            return Err(self.wrong(key, node, &expected));
-        }
-        items
-            .iter()
-            .enumerate()
-            .map(|(i, item)| {
-                let path = format!("{key}[{i}]");
-                self.number(&path, item, num)
-            })
-            .collect::<Result<Vec<_>, _>>()
-            .map(Some)
+        let what = format!("numbers ({})", num.expected());
+        self.opt_list(key, len, &what, |path, node| self.number(path, node, num))
     }
 
-    /// An optional list of strings (`None` when absent); `len` fixes its length if given.
+    /// A list of strings (`None` when absent); `len` fixes its length if given.
     pub fn opt_str_list(
         &self,
         key: &'static str,
         len: Option<usize>,
     ) -> Result<Option<Vec<&'a str>>, SceneError> {
-        let Some(node) = self.get(key) else {
-            return Ok(None);
-        };
-        let expected = match len {
-            Some(n) => format!("an array of {n} strings"),
-            None => "an array of strings".to_string(),
-        };
-        let Kind::Array(items) = &node.kind else {
-            return Err(self.wrong(key, node, &expected));
-        };
-        if len.is_some_and(|n| n != items.len()) {
-            return Err(self.wrong(key, node, &expected));
-        }
-        items
-            .iter()
-            .enumerate()
-            .map(|(i, item)| match &item.kind {
-                Kind::Str(s) => Ok(s.as_str()),
-                _ => Err(self.wrong(&format!("{key}[{i}]"), item, "a string")),
-            })
-            .collect::<Result<Vec<_>, _>>()
-            .map(Some)
+        self.opt_list(key, len, "strings", |path, node| match &node.kind {
+            Kind::Str(s) => Ok(s.as_str()),
+            _ => Err(self.wrong(path, node, "a string")),
+        })
     }
 
     /// A 2-vector `[x, y]` with a default (`None`: required).
