@@ -5,7 +5,8 @@
 //! its other bodies hang on revolute or prismatic joints, each with optional damping, a
 //! joint spring and end stops (joint limits). It knows its mass matrix `M(q)`, the force vector `h(q, u, t)` and the
 //! contact kinematics (gaps `g_N`, directions `w_N`, `w_T`) of every potential contact
-//! between a body's contact shape and the terrain. The model is immutable once built;
+//! between a body's contact shape and the terrain, or between shapes of two bodies. The
+//! model is immutable once built;
 //! [`Kinematics`] is the model evaluated at one state `(q, u)`, in buffers reused from one
 //! evaluation to the next.
 
@@ -15,6 +16,7 @@ mod ellipse;
 mod forces;
 mod kinematics;
 mod model;
+mod pairs;
 mod shape;
 mod terrain;
 
@@ -23,6 +25,7 @@ pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeatu
 pub use forces::Spring;
 pub use kinematics::Kinematics;
 pub use model::{LimitCandidate, Model, ModelError};
+pub use pairs::{pair_features, PairCandidate, PairGeometry};
 pub use shape::{Shape, ShapeInstance};
 pub use terrain::{Terrain, TerrainFeature};
 

@@ -3,6 +3,9 @@
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
+use crate::pairs::{
+    pair_candidates, pair_directions_to, pair_geometry, PairCandidate, PairGeometry, Pose,
+};
 use crate::{
     Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance,
     Spring, Terrain, Vec2,
@@ -37,6 +40,12 @@ pub enum ModelError {
     BadShape { shape: String, reason: String },
     #[error("spring '{spring}': {reason}")]
     BadSpring { spring: String, reason: String },
+    #[error("contact between shapes '{first}' and '{second}': {reason}")]
+    BadPair {
+        first: String,
+        second: String,
+        reason: String,
+    },
 }
 
 /// One end stop of a joint (physics.md §7): the unilateral constraint
@@ -97,6 +106,10 @@ pub struct Model {
     pub gravity: Vec2,
     /// Every finite joint stop (physics.md §7), two per joint with both limits.
     pub limits: Vec<LimitCandidate>,
+    /// Every potential contact between shapes of two bodies (physics.md §7), added by
+    /// [`Model::add_body_contacts`]. In the stepper's numbering they follow the terrain
+    /// contacts: body–body contact `p` is contact `contacts.len() + p`.
+    pub pairs: Vec<PairCandidate>,
     /// First generalised coordinate of each body (for a fixed body: the next body's).
     pub(crate) first_coordinate: Vec<usize>,
     /// Number of generalised coordinates.
@@ -133,9 +146,129 @@ impl Model {
             springs,
             gravity,
             limits,
+            pairs: Vec::new(),
             first_coordinate,
             dof,
         })
+    }
+
+    /// Adds the potential contacts between shape `a` and shape `b` (indices into
+    /// [`Model::shapes`], on two different bodies that are not both fixed) with `material`
+    /// (physics.md §7); returns how many candidates the pair makes (see
+    /// [`crate::pair_features`]). Joined bodies are allowed: filtering is the caller's.
+    pub fn add_body_contacts(
+        &mut self,
+        a: usize,
+        b: usize,
+        material: ContactMaterial,
+    ) -> Result<usize, ModelError> {
+        let count = self.shapes.len();
+        for s in [a, b] {
+            if s >= count {
+                return Err(ModelError::BadPair {
+                    first: a.to_string(),
+                    second: b.to_string(),
+                    reason: format!("shape {s} does not exist (the model has {count} shapes)"),
+                });
+            }
+        }
+        let bad = |reason: &str| ModelError::BadPair {
+            first: self.shapes[a].name.clone(),
+            second: self.shapes[b].name.clone(),
+            reason: reason.to_string(),
+        };
+        let (body_a, body_b) = (self.shapes[a].body, self.shapes[b].body);
+        if body_a == body_b {
+            return Err(bad("both shapes are on the same body"));
+        }
+        if self.bodies[body_a].is_fixed() && self.bodies[body_b].is_fixed() {
+            return Err(bad("both shapes are on fixed bodies, which never move"));
+        }
+        if !material.friction.is_finite()
+            || material.friction < 0.0
+            || !(0.0..=1.0).contains(&material.restitution_normal)
+            || !(-1.0..=1.0).contains(&material.restitution_tangent)
+        {
+            return Err(bad(
+                "friction must be finite and >= 0, restitution in [0, 1], tangential restitution in [-1, 1]",
+            ));
+        }
+        let new = pair_candidates(&self.shapes, a, b, material).map_err(bad)?;
+        let added = new.len();
+        self.pairs.extend(new);
+        Ok(added)
+    }
+
+    /// Whether bodies `a` and `b` are joined by a joint (one is the other's parent).
+    pub fn joined(&self, a: usize, b: usize) -> bool {
+        let parent = |x: usize| self.bodies[x].joint.as_ref().and_then(|j| j.parent);
+        parent(a) == Some(b) || parent(b) == Some(a)
+    }
+
+    /// Number of potential contacts in the stepper's numbering: terrain contacts, then
+    /// body–body contacts.
+    #[inline]
+    pub fn contact_count(&self) -> usize {
+        self.contacts.len() + self.pairs.len()
+    }
+
+    /// The material of contact `i` in the stepper's numbering (see [`Model::pairs`]).
+    #[inline]
+    pub fn material(&self, i: usize) -> &ContactMaterial {
+        match self.contacts.get(i) {
+            Some(c) => &c.material,
+            None => &self.pairs[i - self.contacts.len()].material,
+        }
+    }
+
+    /// The name of contact `i` in the stepper's numbering (see [`Model::pairs`]).
+    pub fn contact_name(&self, i: usize) -> &str {
+        match self.contacts.get(i) {
+            Some(c) => &c.name,
+            None => &self.pairs[i - self.contacts.len()].name,
+        }
+    }
+
+    /// Geometry of body–body contact `p` (needs `kinematics.update` first).
+    #[inline]
+    pub fn pair_geometry(&self, kinematics: &Kinematics, p: usize) -> Option<PairGeometry> {
+        let pair = &self.pairs[p];
+        let pose = |s: usize| {
+            let b = self.shapes[s].body;
+            Pose {
+                position: kinematics.position[b],
+                rotation: kinematics.rotation(b),
+            }
+        };
+        pair_geometry(
+            &self.shapes[pair.probe].shape,
+            pair.feature,
+            pose(pair.probe),
+            &self.shapes[pair.target].shape,
+            pose(pair.target),
+        )
+    }
+
+    /// Writes `w_N`, `w_T` of body–body contact `p` at `geometry` (physics.md §7) into
+    /// slices of length `n`.
+    #[inline]
+    pub fn pair_directions_to(
+        &self,
+        kinematics: &Kinematics,
+        p: usize,
+        geometry: &PairGeometry,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) {
+        let pair = &self.pairs[p];
+        pair_directions_to(
+            kinematics,
+            self.shapes[pair.probe].body,
+            self.shapes[pair.target].body,
+            geometry,
+            w_n,
+            w_t,
+        );
     }
 
     /// The smallest model: one floating body named `body` carrying one shape named

@@ -1,5 +1,6 @@
 //! `[[bodies]]`, `[[shapes]]` and `[[springs]]`: the multibody model (physics.md §1).
 
+use crate::body_contacts::{read_filter, Filter};
 use crate::environment::read_material;
 use crate::error::{number, short_list, suggestion, SceneError};
 use crate::reader::{Num, Table};
@@ -517,6 +518,8 @@ pub(crate) struct ShapeSpec {
     pub material: ContactMaterial,
     /// Switched on and off by the controller (a cane); starts switched off.
     pub switchable: bool,
+    /// Collision group and mask for `[body_contacts] all = true`.
+    pub filter: Filter,
 }
 
 pub(crate) fn read_shapes(
@@ -542,11 +545,13 @@ pub(crate) fn read_shapes(
         let shape = read_geometry(t, kind)?;
         let material = read_material(t, base_material)?;
         let switchable = t.bool_or("switchable", false)?;
+        let filter = read_filter(t)?;
         t.finish()?;
         out.push(ShapeSpec {
             instance: ShapeInstance { name, body, shape },
             material,
             switchable,
+            filter,
         });
     }
     Ok(out)

@@ -1,14 +1,15 @@
 //! The TOML scene format of hopsim (`docs/scene-format.md`).
 //!
 //! A scene file describes a robot and its world: `[meta]`, `[simulation]`,
-//! `[environment]`, `[[bodies]]`, `[[shapes]]`, `[[springs]]`, `[controller]` and
-//! `[initial]`. [`load`] reads, overrides (`--set key=value`) and validates it into a
+//! `[environment]`, `[[bodies]]`, `[[shapes]]`, `[[springs]]`, `[body_contacts]`,
+//! `[[contact_pairs]]`, `[controller]` and `[initial]`. [`load`] reads, overrides (`--set key=value`) and validates it into a
 //! [`Scene`]: a [`hopsim_model::Model`], an initial [`hopsim_step::State`], a
 //! [`hopsim_control::ControllerConfig`] and the run [`Settings`]. Every error says where
 //! (file:line:column, or the `--set` argument), which key, what was found and what was
 //! expected; unknown keys get a "did you mean".
 
 mod bodies;
+mod body_contacts;
 mod controller;
 mod environment;
 mod error;

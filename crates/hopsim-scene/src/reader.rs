@@ -311,19 +311,22 @@ impl<'a> Table<'a> {
         ))
     }
 
-    /// A list of numbers (`None` when absent); `len` fixes its length if given.
-    pub fn opt_f64_list(
+    /// A list of values (`None` when absent), each read by `item` from its path
+    /// (`key[i]`) and node; `len` fixes its length if given, `what` names the values in
+    /// messages ("numbers (m)", "strings").
+    fn opt_list<T>(
         &self,
         key: &'static str,
         len: Option<usize>,
-        num: Num,
-    ) -> Result<Option<Vec<f64>>, SceneError> {
+        what: &str,
+        item: impl Fn(&str, &'a Node) -> Result<T, SceneError>,
+    ) -> Result<Option<Vec<T>>, SceneError> {
         let Some(node) = self.get(key) else {
             return Ok(None);
         };
         let expected = match len {
-            Some(n) => format!("an array of {n} numbers ({})", num.expected()),
-            None => format!("an array of numbers ({})", num.expected()),
+            Some(n) => format!("an array of {n} {what}"),
+            None => format!("an array of {what}"),
         };
         let Kind::Array(items) = &node.kind else {
             return Err(self.wrong(key, node, &expected));
@@ -334,12 +337,32 @@ impl<'a> Table<'a> {
         items
             .iter()
             .enumerate()
-            .map(|(i, item)| {
-                let path = format!("{key}[{i}]");
-                self.number(&path, item, num)
-            })
+            .map(|(i, node)| item(&format!("{key}[{i}]"), node))
             .collect::<Result<Vec<_>, _>>()
             .map(Some)
+    }
+
+    /// A list of numbers (`None` when absent); `len` fixes its length if given.
+    pub fn opt_f64_list(
+        &self,
+        key: &'static str,
+        len: Option<usize>,
+        num: Num,
+    ) -> Result<Option<Vec<f64>>, SceneError> {
+        let what = format!("numbers ({})", num.expected());
+        self.opt_list(key, len, &what, |path, node| self.number(path, node, num))
+    }
+
+    /// A list of strings (`None` when absent); `len` fixes its length if given.
+    pub fn opt_str_list(
+        &self,
+        key: &'static str,
+        len: Option<usize>,
+    ) -> Result<Option<Vec<&'a str>>, SceneError> {
+        self.opt_list(key, len, "strings", |path, node| match &node.kind {
+            Kind::Str(s) => Ok(s.as_str()),
+            _ => Err(self.wrong(path, node, "a string")),
+        })
     }
 
     /// A 2-vector `[x, y]` with a default (`None`: required).

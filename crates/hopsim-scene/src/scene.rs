@@ -1,6 +1,7 @@
 //! The validated scene and how it is built from the file (`docs/scene-format.md`).
 
 use crate::bodies::{read_bodies, read_shapes, read_springs, Names, ShapeSpec, MAX_SHAPES};
+use crate::body_contacts::read_body_contacts;
 use crate::controller::read_controller;
 use crate::environment::read_environment;
 use crate::error::{SceneError, Source};
@@ -98,6 +99,8 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         "bodies",
         "shapes",
         "springs",
+        "body_contacts",
+        "contact_pairs",
         "controller",
         "initial",
     ])?;
@@ -167,6 +170,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     for c in &mut model.contacts {
         c.material = shapes[c.shape].material;
     }
+    read_body_contacts(&top, &shapes, &shape_names, &mut model)?;
     let switchable: Vec<usize> = (0..shapes.len())
         .filter(|&s| shapes[s].switchable)
         .collect();
@@ -253,6 +257,26 @@ fn read_initial(
                 format!(
                     "the shape '{shape}' starts {:.6e} m inside the terrain (contact '{}'); {fix}",
                     -gap, model.contacts[contact].name
+                ),
+            ));
+        }
+    }
+    ws.update(model, &q, &u);
+    for (p, pair) in model.pairs.iter().enumerate() {
+        let Some(geometry) = model.pair_geometry(&ws, p) else {
+            continue;
+        };
+        if geometry.gap < -PENETRATION_TOL {
+            let shape = |s: usize| &model.shapes[s].name;
+            return Err(init.error_at_key(
+                "q",
+                format!(
+                    "the shapes '{}' and '{}' overlap by {:.6e} m at the start (contact '{}'); \
+                     move their bodies apart",
+                    shape(pair.probe),
+                    shape(pair.target),
+                    -geometry.gap,
+                    pair.name
                 ),
             ));
         }

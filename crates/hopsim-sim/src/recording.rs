@@ -29,7 +29,10 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
                     .collect(),
             })
             .collect(),
-        contacts: model.contacts.iter().map(|c| c.name.clone()).collect(),
+        // Terrain contacts, then body–body contacts (physics.md §7).
+        contacts: (0..model.contact_count())
+            .map(|i| model.contact_name(i).to_string())
+            .collect(),
         springs: model.springs.iter().map(|s| s.name.clone()).collect(),
         terrain: model.terrain.clone(),
         dt: scene.settings.dt,
@@ -153,9 +156,18 @@ impl RecordingObserver {
                 angle: ws.angle[b],
             }));
         self.contacts.clear();
+        // Body–body contacts follow the terrain contacts in `RecordingInfo::contacts`; their
+        // point is the probe's and their percussion the one on the probe's body.
+        let terrain = model.contacts.len();
+        let records = (view.record.contacts.iter().map(|c| (c, c.contact))).chain(
+            view.record
+                .pair_contacts
+                .iter()
+                .map(|c| (c, terrain + c.contact)),
+        );
         self.contacts
-            .extend(view.record.contacts.iter().map(|c| ContactSample {
-                contact: c.contact,
+            .extend(records.map(|(c, contact)| ContactSample {
+                contact,
                 point: [c.point.x, c.point.y],
                 normal: [c.normal.x, c.normal.y],
                 impulse_normal: c.impulse_normal,

@@ -138,8 +138,12 @@ pub struct StepRecord {
     pub step: u64,
     /// Time at the end of the step, s.
     pub t: f64,
-    /// The contacts of the index set.
+    /// The terrain contacts of the index set (`contact` indexes `Model::contacts`).
     pub contacts: Vec<ContactRecord>,
+    /// The body–body contacts of the index set (physics.md §7): `contact` indexes
+    /// `Model::pairs`, `point` is the probe's point `p_B`, `normal` points from the target
+    /// (A) to the probe (B), and the percussions act on B (their opposites on A).
+    pub pair_contacts: Vec<ContactRecord>,
     /// The closed joint stops of the step.
     pub limits: Vec<LimitRecord>,
     /// The velocity locks (brakes) of this step with their impulses, in the order of
@@ -152,11 +156,11 @@ pub struct StepRecord {
     /// Whether this step's LCP ended without a certified solution (the step then used the
     /// frictionless normal-contact LCP).
     pub lcp_failed: bool,
-    /// Largest penetration `max(-g_N, 0)` over the enabled contacts at the end of the
-    /// step, m.
+    /// Largest penetration `max(-g_N, 0)` over the enabled terrain contacts at the end of
+    /// the step, m.
     pub max_penetration: f64,
-    /// Smallest gap `g_N` over the enabled contacts at the end of the step (`+∞` when none
-    /// can touch), m; computed in the same pass as `max_penetration`.
+    /// Smallest gap `g_N` over the enabled terrain contacts at the end of the step (`+∞`
+    /// when none can touch), m; computed in the same pass as `max_penetration`.
     pub min_gap: f64,
 }
 
@@ -167,6 +171,7 @@ impl Default for StepRecord {
             step: 0,
             t: 0.0,
             contacts: Vec::new(),
+            pair_contacts: Vec::new(),
             limits: Vec::new(),
             locks: Vec::new(),
             energy: EnergyLedger::default(),

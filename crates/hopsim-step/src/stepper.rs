@@ -10,6 +10,8 @@ use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver};
 use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
+mod pairs;
+
 /// Settings of the stepper.
 #[derive(Clone, Debug)]
 pub struct StepSettings {
@@ -164,10 +166,11 @@ pub struct Stepper {
 }
 
 impl Stepper {
-    /// A stepper for `model`, with every contact enabled.
+    /// A stepper for `model`, with every contact enabled (terrain contacts, then
+    /// body–body contacts: see [`Model::pairs`]).
     pub fn new(model: &Model, settings: StepSettings) -> Self {
         let n = model.dof();
-        let k = model.contacts.len();
+        let k = model.contact_count();
         let limits = model.limits.len();
         let locks = model.bodies.len();
         let vector = |len: usize| vec![0.0; len];
@@ -222,6 +225,7 @@ impl Stepper {
             lcp_b: DVector::zeros(3 * k + limits),
             record: StepRecord {
                 contacts: Vec::with_capacity(k),
+                pair_contacts: Vec::with_capacity(model.pairs.len()),
                 limits: Vec::with_capacity(limits),
                 locks: Vec::with_capacity(locks),
                 ..StepRecord::default()
@@ -281,6 +285,7 @@ impl Stepper {
         self.record.t = state.t;
         self.t_start = state.t;
         self.record.contacts.clear();
+        self.record.pair_contacts.clear();
         self.record.limits.clear();
         self.record.locks.clear();
         self.record.energy = energy;
@@ -477,12 +482,12 @@ impl Stepper {
                 i,
                 &geom,
                 &mut self.w_n[rows.clone()],
-                &mut self.w_t[rows.clone()],
+                &mut self.w_t[rows],
             );
-            self.gamma_n[c] = dot(&self.w_n[rows.clone()], &self.u_start);
-            self.gamma_t[c] = dot(&self.w_t[rows], &self.u_start);
-            self.active.push(i);
-            self.geometry.push(geom);
+            self.close_contact(i, geom);
+        }
+        if !model.pairs.is_empty() {
+            self.pair_index_set(model);
         }
         self.active_limits.clear();
         for (j, limit) in model.limits.iter().enumerate() {
@@ -499,6 +504,19 @@ impl Stepper {
             self.active_limits.push(j);
         }
         self.active.len()
+    }
+
+    /// Adds contact `i`, whose `w_N`, `w_T` are written in the next rows, to the index set
+    /// with its `γ_N^A`, `γ_T^A` and `geometry`.
+    #[inline]
+    fn close_contact(&mut self, i: usize, geometry: ContactGeometry) {
+        let n = self.n;
+        let c = self.active.len();
+        let rows = c * n..(c + 1) * n;
+        self.gamma_n[c] = dot(&self.w_n[rows.clone()], &self.u_start);
+        self.gamma_t[c] = dot(&self.w_t[rows], &self.u_start);
+        self.active.push(i);
+        self.geometry.push(geometry);
     }
 
     /// Stage 5, physics.md §4.3 and §4.4: `ũ = u^A + G (h Δt + impulses)` and `G W_N`,
@@ -558,10 +576,10 @@ impl Stepper {
         }
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
-            let mat_r = &model.contacts[self.active[r]].material;
+            let mat_r = &model.material(self.active[r]);
             let (w_n, w_t) = (row(&self.w_n, n, r), row(&self.w_t, n, r));
             for c in 0..k {
-                let mu_c = model.contacts[self.active[c]].material.friction;
+                let mu_c = model.material(self.active[c]).friction;
                 let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
                 let g_nn = dot(w_n, gw_n);
                 let g_nt = dot(w_n, gw_t);
@@ -603,7 +621,7 @@ impl Stepper {
             // Coulomb cone (Λ_N ≥ 0, |Λ_T| ≤ μ Λ_N) moves them within that tolerance and
             // keeps friction from doing positive work through round-off (e.g. at μ = 0).
             for c in 0..k {
-                let mu = model.contacts[self.active[c]].material.friction;
+                let mu = model.material(self.active[c]).friction;
                 let normal = solution.z[c].max(0.0);
                 let limit = mu * normal;
                 self.lambda_n[c] = normal;
@@ -642,7 +660,7 @@ impl Stepper {
             let w_j = row(&self.w_limit, n, r);
             let gw_j = row(&self.solved, n, 1 + 2 * k + r);
             for c in 0..k {
-                let mu_c = model.contacts[self.active[c]].material.friction;
+                let mu_c = model.material(self.active[c]).friction;
                 let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
                 // The stop's row: Λ_T = Λ_R − μ Λ_N enters through the Λ_N and Λ_R columns.
                 let g_jt = dot(w_j, gw_t);
@@ -743,6 +761,7 @@ impl Stepper {
             );
         }
         self.record.contacts.clear();
+        self.record.pair_contacts.clear();
         if k > 0 {
             self.fill_contact_records(model, k);
         }
@@ -766,7 +785,7 @@ impl Stepper {
         let scale = 1e-9;
         for c in 0..k {
             let (ln, lt) = (self.lambda_n[c], self.lambda_t[c]);
-            let material = &model.contacts[self.active[c]].material;
+            let material = model.material(self.active[c]);
             let mut xi_t = self.slip[c];
             if xi_t.is_nan() {
                 // Frictionless fallback: ξ_T = γ_T^E + ε_T γ_T^A.
@@ -782,8 +801,14 @@ impl Stepper {
                 ContactState::Stick
             };
             let geom = self.geometry[c];
-            self.record.contacts.push(ContactRecord {
-                contact: self.active[c],
+            // Terrain contacts, then body–body contacts (numbered from 0 in their list).
+            let terrain = model.contacts.len();
+            let (records, contact) = match self.active[c].checked_sub(terrain) {
+                Some(p) => (&mut self.record.pair_contacts, p),
+                None => (&mut self.record.contacts, self.active[c]),
+            };
+            records.push(ContactRecord {
+                contact,
                 gap: geom.gap,
                 point: geom.point,
                 normal: geom.normal,

@@ -239,3 +239,81 @@ fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
         "contacts {contacts}, stop impacts {stops}"
     );
 }
+
+/// Contacts between bodies (physics.md §7): three discs and a box dropped onto a fixed
+/// floor and onto each other, every pair a candidate; impacts, resting stacks and sliding
+/// allocate nothing.
+#[test]
+fn body_contacts_do_not_allocate() {
+    use hopsim_model::{Body, ContactMaterial, Joint, JointKind, ShapeInstance};
+    let disc = |b: usize| ShapeInstance {
+        name: format!("disc{b}"),
+        body: b,
+        shape: Shape::Circle {
+            center: Vec2::zeros(),
+            radius: 0.1,
+        },
+    };
+    let mut floor = Body::base("floor", 0.0, 0.0);
+    floor.joint = Some(Joint {
+        kind: JointKind::Fixed { angle: 0.0 },
+        ..Joint::revolute(None, Vec2::new(0.0, -0.5), Vec2::zeros())
+    });
+    let mut model = Model::new(
+        vec![
+            Body::base("a", 1.0, 0.005),
+            Body::base("b", 1.0, 0.005),
+            Body::base("c", 1.0, 0.005),
+            Body::base("crate", 2.0, 0.01),
+            floor,
+        ],
+        vec![
+            disc(0),
+            disc(1),
+            disc(2),
+            ShapeInstance {
+                name: "crate".into(),
+                body: 3,
+                shape: Shape::rectangle(Vec2::zeros(), 0.15, 0.1),
+            },
+            ShapeInstance {
+                name: "floor".into(),
+                body: 4,
+                shape: Shape::rectangle(Vec2::zeros(), 5.0, 0.5),
+            },
+        ],
+        Terrain::flat(-10.0),
+        vec![],
+        Vec2::new(0.0, -9.81),
+        ContactMaterial::default(),
+    )
+    .unwrap();
+    for a in 0..5 {
+        for b in a + 1..5 {
+            model
+                .add_body_contacts(a, b, common::material(0.5, 0.3))
+                .unwrap();
+        }
+    }
+    let q = [
+        0.0, 0.3, 0.0, 0.05, 0.55, 0.0, -0.08, 0.8, 0.0, 0.3, 0.15, 0.3,
+    ];
+    let state = common::state(
+        &q,
+        &[0.5, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0, -1.0, 0.0, -0.5, 0.0, 0.0],
+    );
+    let mut stepper = common::stepper(&model, 1e-3);
+    let mut s = state.clone();
+    stepper.start(&model, &s);
+    let mut most = 0;
+    let count = allocations(500, 1500, |k| {
+        if k % 1000 == 0 {
+            s.q.copy_from(&state.q);
+            s.u.copy_from(&state.u);
+        }
+        let rec = stepper.step(&model, &mut s, &Actuation::default()).unwrap();
+        most = most.max(rec.pair_contacts.len());
+    });
+    assert_eq!(count, 0);
+    assert!(most >= 3, "{most} body–body contacts at most");
+}

@@ -1,0 +1,309 @@
+//! Gallery scenes with contacts between bodies and the Painlevé paradox
+//! (docs/classics.md §1, §5; physics.md §7): Newton's cradle of 3 and 5 balls against
+//! Moreau's simultaneous impact law and, with gaps between the balls, against sequential
+//! binary collisions; Painlevé's rod above the critical friction against the closed-form
+//! solution of its one-step LCP.
+
+mod common;
+
+use common::scene;
+use hopsim_sim::{Observer, RunError, Simulation, StepView};
+
+/// What one step left behind.
+struct Sample {
+    u: Vec<f64>,
+    /// Largest body–body normal percussion of the step, N s.
+    pair_impulse: f64,
+    /// Terrain contacts: `(Λ_N, Λ_T)` of each.
+    contacts: Vec<(f64, f64)>,
+    lcp_failed: bool,
+}
+
+#[derive(Default)]
+struct Samples(Vec<Sample>);
+
+impl Observer for Samples {
+    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        self.0.push(Sample {
+            u: v.state.u.as_slice().to_vec(),
+            pair_impulse: v
+                .record
+                .pair_contacts
+                .iter()
+                .map(|c| c.impulse_normal)
+                .fold(0.0, f64::max),
+            contacts: v
+                .record
+                .contacts
+                .iter()
+                .map(|c| (c.impulse_normal, c.impulse_tangent))
+                .collect(),
+            lcp_failed: v.record.lcp_failed,
+        });
+        Ok(())
+    }
+}
+
+/// Runs the gallery scene `name` with overrides to its end: every step's sample, and the
+/// initial velocities.
+fn run(name: &str, overrides: &[&str]) -> (Vec<Sample>, Vec<f64>) {
+    let scene = scene(&format!("classic/{name}"), overrides);
+    let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
+    let mut sim = Simulation::new(&scene);
+    let mut samples = Samples::default();
+    for _ in 0..steps {
+        sim.step(&mut samples).expect("step");
+    }
+    (samples.0, scene.initial.u.as_slice().to_vec())
+}
+
+/// The balls' `x` velocities (every third generalised velocity).
+fn x_velocities(u: &[f64]) -> Vec<f64> {
+    u.iter().step_by(3).copied().collect()
+}
+
+/// docs/classics.md §1: with the inner gaps exactly zero every ball–ball contact is in the
+/// impact step's LCP, and Moreau's law gives `Λ_i = (1 + ε) m v (n − i)/n`,
+/// `u₁⁺ = v [1 − (n − 1)(1 + ε)/n]`, `u_k⁺ = (1 + ε) v/n` in one step; momentum is kept
+/// and `T⁺/T⁻ = 1 − (1 − ε²)(n − 1)/n`. The LCP is solved to round-off: measured errors
+/// ≤ 2.8e-16 v over all eight cases; the bound is 1e-9 v.
+#[test]
+fn cradle_follows_moreaus_simultaneous_impact_law() {
+    let v = 1.0;
+    for n in [3usize, 5] {
+        for eps in [1.0, 0.9, 0.5, 0.0] {
+            let (samples, u0) = run(
+                &format!("cradle-{n}.toml"),
+                &[&format!("body_contacts.restitution={eps}")],
+            );
+            assert_eq!(u0[0], v);
+            let impacts: Vec<usize> = (0..samples.len())
+                .filter(|&i| samples[i].pair_impulse > 1e-12)
+                .collect();
+            assert_eq!(
+                impacts.len(),
+                1,
+                "n = {n}, ε = {eps}: impact steps {impacts:?}"
+            );
+            let nf = n as f64;
+            let mut expected = vec![(1.0 + eps) * v / nf; n];
+            expected[0] = v * (1.0 - (nf - 1.0) * (1.0 + eps) / nf);
+            // Right after the impact and at the end of the run (no later impact).
+            for u in [&samples[impacts[0]].u, &samples[samples.len() - 1].u] {
+                let found = x_velocities(u);
+                for (k, (f, e)) in found.iter().zip(&expected).enumerate() {
+                    assert!(
+                        (f - e).abs() < 1e-9 * v,
+                        "n = {n}, ε = {eps}: u{} = {f} vs {e}",
+                        k + 1
+                    );
+                }
+                let momentum: f64 = found.iter().sum();
+                assert!((momentum - v).abs() < 1e-12, "momentum {momentum}");
+                let ratio: f64 = found.iter().map(|u| u * u).sum::<f64>() / (v * v);
+                let expected_ratio = 1.0 - (1.0 - eps * eps) * (nf - 1.0) / nf;
+                assert!((ratio - expected_ratio).abs() < 1e-9, "T⁺/T⁻ {ratio}");
+            }
+        }
+    }
+}
+
+/// docs/classics.md §1, sequential model: with gaps `δ = 1/512 m > vΔt` between the
+/// resting balls every collision is binary, and equal masses give
+/// `u_i, u_j ← (u_i + u_j)/2 ∓ ε (u_i − u_j)/2` per collision: "one ball out" for `ε = 1`
+/// (`n − 1` collisions), and for `n = 3`, `ε = 0.9` after the late third collision
+/// `(0.047625, 0.049875, 0.9025) v`. Each binary collision is exact to round-off
+/// (measured ≤ 4.2e-17 v; bound 1e-9 v).
+#[test]
+fn cradle_with_gaps_collides_ball_by_ball() {
+    let gap = 1.0 / 512.0;
+    for (n, eps, collisions, expected) in [
+        (3usize, 1.0, 2usize, vec![0.0, 0.0, 1.0]),
+        (5, 1.0, 4, vec![0.0, 0.0, 0.0, 0.0, 1.0]),
+        (3, 0.9, 3, vec![0.047625, 0.049875, 0.9025]),
+    ] {
+        // Balls 2…n at x = (k − 2)(2R + δ), 2R = 1/8 m, ball 1 as in the scene.
+        let positions: Vec<String> = (2..=n)
+            .map(|k| {
+                format!(
+                    "initial.q.{}={}",
+                    3 * (k - 1),
+                    (k as f64 - 2.0) * (0.125 + gap)
+                )
+            })
+            .collect();
+        let mut overrides: Vec<&str> = positions.iter().map(String::as_str).collect();
+        let restitution = format!("body_contacts.restitution={eps}");
+        overrides.push(&restitution);
+        overrides.push("simulation.duration=2.0");
+        let (samples, _) = run(&format!("cradle-{n}.toml"), &overrides);
+        let impacts = (0..samples.len())
+            .filter(|&i| samples[i].pair_impulse > 1e-12)
+            .count();
+        assert_eq!(impacts, collisions, "n = {n}, ε = {eps}");
+        let found = x_velocities(&samples[samples.len() - 1].u);
+        for (k, (f, e)) in found.iter().zip(&expected).enumerate() {
+            assert!(
+                (f - e).abs() < 1e-9,
+                "n = {n}, ε = {eps}: u{} = {f} vs {e}",
+                k + 1
+            );
+        }
+    }
+}
+
+/// docs/classics.md §5: a uniform rod (m = 1 kg, half-length l = 0.5 m) at θ = 60° with
+/// its lower end on a floor with μ = 2 > μ_c(60°) = (1 + 3cos²θ)/(3 sinθ cosθ) = 1.347,
+/// sliding at `v_s` = 1 m/s away from the centre of mass's side. There is no sliding
+/// solution; the step's LCP has exactly one solution, sticking, with
+/// `Λ_N = (m/4)[(1 + 3s²) g Δt + 3 s c v_s]`, `Λ_T = (m/4)[3 s c g Δt + (1 + 3c²) v_s]`:
+/// an impact without collision (`γ_N^A = 0`, `Λ_N ≫ m g Δt`) that stops the end, the
+/// kinetic energy falling to 0.278073 J at Δt = 1e-3 s. The stepper (strict: an LCP without
+/// a certified solution would stop the run) reports that solution, at two step sizes.
+/// Below μ_c (μ = 1) the same step is ordinary sliding,
+/// `Λ_N = m g Δt / (1 + 3c² − 3 μ s c)`, `Λ_T = μ Λ_N`.
+#[test]
+fn painleves_rod_above_the_critical_friction_stops_by_a_tangential_impact() {
+    let (m, g, v_s) = (1.0f64, 9.81f64, 1.0f64);
+    let theta = std::f64::consts::FRAC_PI_3;
+    let (s, c) = theta.sin_cos();
+    let mu_c = (1.0 + 3.0 * c * c) / (3.0 * s * c);
+    assert!(2.0 > mu_c && 1.0 < mu_c);
+    for dt in [1e-3, 1e-5] {
+        let (samples, _) = run(
+            "painleve.toml",
+            &[&format!("simulation.dt={dt}"), "simulation.duration=0.01"],
+        );
+        let first = &samples[0];
+        assert!(!first.lcp_failed);
+        let (lambda_n, lambda_t) = first.contacts[0];
+        let expected_n = m / 4.0 * ((1.0 + 3.0 * s * s) * g * dt + 3.0 * s * c * v_s);
+        let expected_t = m / 4.0 * (3.0 * s * c * g * dt + (1.0 + 3.0 * c * c) * v_s);
+        // Solved to round-off (measured ≤ 1.1e-16 N s at both Δt; bound 1e-9 N s); the
+        // start's 2e-12 m overlap does not enter the velocities.
+        assert!(
+            (lambda_n - expected_n).abs() < 1e-9,
+            "Λ_N {lambda_n} vs {expected_n}"
+        );
+        assert!(
+            (lambda_t - expected_t).abs() < 1e-9,
+            "Λ_T {lambda_t} vs {expected_t}"
+        );
+        assert!(lambda_n > 30.0 * m * g * dt, "an impact: Λ_N = {lambda_n}");
+        // The end A has stopped: x-velocity of A = u_x + l sin θ θ̇ (θ unchanged at q^M).
+        let u = &first.u;
+        let slip = u[0] + 0.5 * s * u[2];
+        assert!(slip.abs() < 1e-12, "slip after the step {slip}");
+        if dt == 1e-3 {
+            let kinetic = 0.5 * m * (u[0] * u[0] + u[1] * u[1]) + 0.5 / 12.0 * u[2] * u[2];
+            assert!(
+                (kinetic - 0.278073).abs() < 1e-6,
+                "kinetic energy {kinetic}"
+            );
+        }
+        assert!(samples.iter().all(|s| !s.lcp_failed));
+    }
+    // Below the critical friction: sliding continues.
+    let dt = 1e-3;
+    let (samples, _) = run(
+        "painleve.toml",
+        &["environment.friction=1.0", "simulation.duration=0.01"],
+    );
+    let (lambda_n, lambda_t) = samples[0].contacts[0];
+    let expected_n = m * g * dt / (1.0 + 3.0 * c * c - 3.0 * s * c);
+    assert!(
+        (lambda_n - expected_n).abs() < 1e-12,
+        "Λ_N {lambda_n} vs {expected_n}"
+    );
+    assert!(
+        (lambda_t - lambda_n).abs() < 1e-12,
+        "Λ_T {lambda_t} = μ Λ_N"
+    );
+    let u = &samples[0].u;
+    assert!(u[0] + 0.5 * s * u[2] < -0.9, "still sliding");
+}
+
+/// docs/classics.md §5, Glocker's example: μ = 5/3 below μ_c(31°) = 2.419, the rod
+/// slides lower end leading and friction turns it up. Against the contact-maintained
+/// sliding ODE (RK4 to 1e-6, docs/classics.md, given to 1e-6 m and 1e-5°): CoM `x` and
+/// `θ` at 0.2, 0.4, 0.6 s, at Δt = 1e-3 and 5e-4 s. Measured errors: x ≤ 1.7e-5 m and
+/// θ ≤ 1.1e-4° at 1e-3 s, x ≤ 1.9e-5 m and θ ≤ 3.5e-5° at 5e-4 s (relative 1.3e-6 and
+/// 3.3e-6, near the reference's own rounding and integration error); the bounds are 5e-5 m
+/// and 3e-4°.
+#[test]
+fn glockers_painleve_rod_slides_as_the_sliding_ode_says() {
+    let reference = [
+        (0.2, -5.665386, 31.05139f64),
+        (0.4, -10.657887, 31.35369),
+        (0.6, -14.954702, 32.83548),
+    ];
+    for dt in [1e-3f64, 5e-4] {
+        let scene = scene(
+            "classic/painleve-glocker.toml",
+            &[&format!("simulation.dt={dt}"), "simulation.duration=0.6"],
+        );
+        let mut sim = Simulation::new(&scene);
+        let mut samples = Samples::default();
+        let mut positions = Vec::new();
+        for _ in 0..(0.6 / dt).round() as u64 {
+            sim.step(&mut samples).expect("step");
+            positions.push((sim.state().t, sim.state().q[0], sim.state().q[2]));
+        }
+        for (t, x, theta_deg) in reference {
+            let &(_, found_x, found_theta) = positions
+                .iter()
+                .find(|p| (p.0 - t).abs() < 0.5 * dt)
+                .unwrap();
+            let (ex, et) = (
+                (found_x - x).abs(),
+                (found_theta.to_degrees() - theta_deg).abs(),
+            );
+            assert!(
+                ex < 5e-5 && et < 3e-4,
+                "Δt = {dt}, t = {t}: x {found_x} (error {ex:.2e}), θ {}° (error {et:.2e})",
+                found_theta.to_degrees()
+            );
+        }
+        // Sliding all along: no LCP fails, the end stays on the floor.
+        assert!(samples.0.iter().all(|s| !s.lcp_failed));
+        // At most one step whose midpoint gap rounds above zero.
+        let open = samples.0.iter().filter(|s| s.contacts.is_empty()).count();
+        assert!(open <= 1, "{open} steps without contact");
+    }
+}
+
+/// docs/classics.md §4: the slider–crank with a translational clearance joint (Flores,
+/// Leine & Glocker 2010), the slider's box against the guide's walls (two fixed bodies)
+/// through body–body contacts. Against the independent §4 re-implementation at the same
+/// Δt = 1e-5 s (given to 7 significant digits): E(0.2 s) = 6.923449 J, 2.87152 crank
+/// revolutions, ω₁(0.2 s) = 68.869 rad/s; the slider stays parallel to the guide (θ₃ ≡ 0 by
+/// symmetry). Measured: |ΔE| = 3.9e-7 J, revolutions 2.871520, ω₁ = 68.86895 rad/s,
+/// |θ₃| ≤ 1e-12 rad; the bounds are the references' last digit.
+#[test]
+fn slider_crank_with_clearance_matches_the_reference_step() {
+    let scene = scene("classic/slider-crank.toml", &[]);
+    let mut sim = Simulation::new(&scene);
+    let mut samples = Samples::default();
+    let mut theta3 = 0.0f64;
+    let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
+    for _ in 0..steps {
+        sim.step(&mut samples).expect("step");
+        theta3 = theta3.max(sim.state().q[2].abs());
+    }
+    assert_eq!(sim.stepper().lcp_stats().failures, 0);
+    let view = sim.view();
+    let energy = view.record.energy.kinetic + view.record.energy.potential;
+    let q = sim.state().q.as_slice();
+    let revolutions = q[0] / std::f64::consts::TAU;
+    assert!((energy - 6.923449).abs() < 1e-5, "E(0.2 s) = {energy}");
+    assert!(
+        (revolutions - 2.87152).abs() < 1e-4,
+        "{revolutions} revolutions"
+    );
+    assert!(
+        (sim.state().u[0] - 68.869).abs() < 1e-3,
+        "ω₁ = {}",
+        sim.state().u[0]
+    );
+    assert!(theta3 < 1e-9, "|θ₃| up to {theta3}");
+}
