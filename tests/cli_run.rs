@@ -135,35 +135,6 @@ fn an_invalid_scene_exits_2_with_its_location() {
 }
 
 #[test]
-fn a_runaway_state_stops_with_step_and_time_and_leaves_no_output() {
-    let dir = tempfile::tempdir().unwrap();
-    let mcap = dir.path().join("r.mcap").display().to_string();
-    let summary = dir.path().join("r.json").display().to_string();
-    // The flywheel passes 5 rad/s within a tenth of a second of motor torque.
-    let out = hopsim(&[
-        "run",
-        "scenes/robbit.toml",
-        "--set",
-        "simulation.max_speed=5",
-        "--mcap",
-        &mcap,
-        "--summary",
-        &summary,
-    ]);
-    assert_eq!(out.status.code(), Some(3));
-    let err = text(&out.stderr);
-    assert!(
-        err.contains("runaway state") && err.contains("step ") && err.contains("t = "),
-        "{err}"
-    );
-    assert!(
-        files_in(dir.path()).is_empty(),
-        "left {:?}",
-        files_in(dir.path())
-    );
-}
-
-#[test]
 fn scene_check_describes_a_valid_scene_and_rejects_a_broken_one() {
     let out = hopsim(&["scene", "check", "scenes/robbit.toml"]);
     assert!(out.status.success());
@@ -303,39 +274,53 @@ fn interrupted_run(signals: &[libc::c_int]) -> (std::process::Output, Vec<PathBu
     (out, left)
 }
 
-/// Ctrl-C stops the run at the next step: exit 130, and neither outputs nor temporary
-/// files are left.
-#[cfg(unix)]
-#[test]
-fn an_interrupted_run_leaves_no_file() {
-    let (out, left) = interrupted_run(&[libc::SIGINT]);
-    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
-    assert!(
-        text(&out.stderr).contains("interrupted at t ="),
-        "{}",
-        text(&out.stderr)
-    );
-    assert_eq!(left, Vec::<PathBuf>::new());
+/// The recordings of an interrupted run (`interrupted_run` writes `a.*`).
+const PARTIAL_RECORDINGS: [&str; 4] = [
+    "a.partial.csv",
+    "a.partial.events.csv",
+    "a.partial.mcap",
+    "a.partial.rrd",
+];
+
+fn names(paths: &[PathBuf]) -> Vec<String> {
+    paths
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect()
 }
 
-/// SIGHUP and SIGTERM stop the run like Ctrl-C (exit 128 + the signal), and a second
-/// Ctrl-C 50 ms after the first removes the temporary files at once: nothing is left.
+/// Ctrl-C, SIGHUP and SIGTERM stop the run at the next step (exit 128 + the signal): the
+/// recordings up to there are kept under partial names with the reason, no complete
+/// output, summary or temporary file is left.
 #[cfg(unix)]
 #[test]
-fn hangups_and_repeated_interrupts_leave_no_file() {
-    for (signals, code) in [
-        (&[libc::SIGHUP][..], 129),
-        (&[libc::SIGTERM][..], 143),
-        (&[libc::SIGINT, libc::SIGINT][..], 130),
+fn an_interrupted_run_keeps_its_recordings_under_partial_names() {
+    for (signal, code) in [
+        (libc::SIGINT, 130),
+        (libc::SIGHUP, 129),
+        (libc::SIGTERM, 143),
     ] {
-        let (out, left) = interrupted_run(signals);
-        assert_eq!(
-            out.status.code(),
-            Some(code),
-            "{signals:?}: {}",
-            text(&out.stderr)
+        let (out, left) = interrupted_run(&[signal]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{signal}: {err}");
+        assert!(err.contains("interrupted at t ="), "{err}");
+        assert_eq!(names(&left), PARTIAL_RECORDINGS, "{signal}");
+        assert!(
+            err.contains("a.partial.mcap") && err.contains("summary was not written"),
+            "{err}"
         );
-        assert_eq!(left, Vec::<PathBuf>::new(), "{signals:?}");
+    }
+}
+
+/// A second Ctrl-C 50 ms after the first ends the process at once: whatever it had not
+/// yet kept is removed, and nothing complete-looking or temporary is left.
+#[cfg(unix)]
+#[test]
+fn repeated_interrupts_leave_no_complete_or_temporary_file() {
+    let (out, left) = interrupted_run(&[libc::SIGINT, libc::SIGINT]);
+    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    for name in names(&left) {
+        assert!(PARTIAL_RECORDINGS.contains(&name.as_str()), "left {name}");
     }
 }
 
