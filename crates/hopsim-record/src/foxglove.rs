@@ -138,18 +138,20 @@ impl Serialize for Transforms<'_> {
             sec: u64,
             nsec: u32,
         }
+        // Single precision (µm, 1e-7 rad at the robot's scale) is plenty for display and
+        // writes shorter numbers than double.
         #[derive(Serialize)]
         struct Xyz {
-            x: f64,
-            y: f64,
-            z: f64,
+            x: f32,
+            y: f32,
+            z: f32,
         }
         #[derive(Serialize)]
         struct Xyzw {
-            x: f64,
-            y: f64,
-            z: f64,
-            w: f64,
+            x: f32,
+            y: f32,
+            z: f32,
+            w: f32,
         }
         #[derive(Serialize)]
         struct Transform<'a> {
@@ -166,8 +168,9 @@ impl Serialize for Transforms<'_> {
                 let time = Time { sec, nsec };
                 let mut seq = serializer.serialize_seq(Some(self.0.frames.len()))?;
                 for (name, pose) in self.0.frames.iter().zip(self.0.frame.bodies) {
-                    let [x, y] = pose.position;
+                    let [x, y] = pose.position.map(|v| v as f32);
                     let (sin, cos) = (0.5 * pose.angle).sin_cos();
+                    let (sin, cos) = (sin as f32, cos as f32);
                     seq.serialize_element(&Transform {
                         timestamp: &time,
                         parent_frame_id: WORLD_FRAME,
