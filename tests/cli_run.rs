@@ -201,6 +201,27 @@ fn sweep_writes_a_row_per_run_in_grid_order_and_a_plot() {
     }
 }
 
+/// `--speed` paces a live stream: a positive factor or `max`, and only with `--spawn`.
+#[test]
+fn speed_needs_spawn_and_a_positive_factor() {
+    let out = hopsim(&["run", "scenes/robbit.toml", "--speed", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("--spawn"),
+        "{}",
+        text(&out.stderr)
+    );
+    for bad in ["0", "fast"] {
+        let out = hopsim(&["run", "scenes/robbit.toml", "--spawn", "--speed", bad]);
+        assert_eq!(out.status.code(), Some(2));
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("positive factor") && err.contains("max"),
+            "{err}"
+        );
+    }
+}
+
 #[test]
 fn help_is_available_for_every_command() {
     for args in [

@@ -219,10 +219,12 @@ impl RerunRecorder {
                 .with_radii([1.5 * marker])
                 .with_colors([Color::from_rgb(0, 0, 0)]),
         )?;
-        self.log_static(
-            "world/springs",
-            &LineStrips2D::update_fields().with_colors([Color::from_rgb(120, 120, 40)]),
-        )?;
+        if self.columns.spring_count > 0 {
+            self.log_static(
+                "world/springs",
+                &LineStrips2D::update_fields().with_colors([Color::from_rgb(120, 120, 40)]),
+            )?;
+        }
         if !self.drawing.contacts_empty {
             self.log_static(
                 FORCE_ENTITY,
