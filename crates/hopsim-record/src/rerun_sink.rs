@@ -9,8 +9,8 @@
 
 use crate::frame::FrameLayout;
 use crate::geometry::{
-    palette, terrain_pieces, wrap_angle, Outline, Point, RobotShapes, TerrainCover, INACTIVE_COLOR,
-    TERRAIN_COLOR,
+    palette, terrain_pieces, wrap_angle, CoordinateUnit, Outline, Point, RobotShapes, TerrainCover,
+    INACTIVE_COLOR, TERRAIN_COLOR,
 };
 use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo, Stop};
 use hopsim_io::AtomicPath;
@@ -392,10 +392,11 @@ impl Series {
     fn push(&mut self, frame: &Frame<'_>) {
         let start = self.values.len();
         match &self.quantity {
-            Quantity::Position => self.values.extend(&frame.q[..2]),
-            Quantity::Angles => self
-                .values
-                .extend(frame.q[2..].iter().map(|&a| wrap_angle(a))),
+            Quantity::Position => self.values.extend(&frame.q[..self.names.len()]),
+            Quantity::Angles => {
+                let angles = &frame.q[frame.q.len() - self.names.len()..];
+                self.values.extend(angles.iter().map(|&a| wrap_angle(a)));
+            }
             Quantity::Energies(which) => {
                 let e = frame.energy.values();
                 self.values.extend(which.iter().map(|&i| e[i]));
@@ -428,18 +429,22 @@ fn scene_series(info: &RecordingInfo) -> Vec<Series> {
         first_color,
         values: Vec::new(),
     };
-    let (positions, angles) = info.coordinates.split_at(info.coordinates.len().min(2));
+    // Units as in every recording: the first two coordinates metres, the others radians.
+    let metres = (0..info.coordinates.len())
+        .take_while(|&i| CoordinateUnit::of(i) == CoordinateUnit::Metre)
+        .count();
+    let (positions, angles) = info.coordinates.split_at(metres);
     let mut all = Vec::new();
-    if positions.len() == 2 {
+    if !positions.is_empty() {
         all.push(series(
             PLOT_POSITION,
             Quantity::Position,
             positions.to_vec(),
             0,
         ));
-        if !angles.is_empty() {
-            all.push(series(PLOT_ANGLE, Quantity::Angles, angles.to_vec(), 0));
-        }
+    }
+    if !angles.is_empty() {
+        all.push(series(PLOT_ANGLE, Quantity::Angles, angles.to_vec(), 0));
     }
     let energies: Vec<usize> = EnergySample::NAMES
         .iter()
