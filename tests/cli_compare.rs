@@ -132,6 +132,7 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
         terrain: Terrain::flat(0.0),
         dt: 1e-3,
         weight_newtons: 9.81,
+        actuated: false,
     };
     let mut recorder = Box::new(McapRecorder::create(path, &info).unwrap());
     for step in (1..=50).step_by(5) {

@@ -25,24 +25,30 @@ fn files_in(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// `hopsim run scenes/robbit.toml` with `extra` and every output (`r.mcap`, `r.rrd`,
+/// `r.csv`, `r.json`) in `dir`.
+fn run_robbit_with_every_output(dir: &Path, extra: &[&str]) -> Output {
+    let p = |name: &str| dir.join(name).display().to_string();
+    let outputs = [
+        "--mcap".to_string(),
+        p("r.mcap"),
+        "--rrd".into(),
+        p("r.rrd"),
+        "--csv".into(),
+        p("r.csv"),
+        "--summary".into(),
+        p("r.json"),
+    ];
+    let mut args = vec!["run", "scenes/robbit.toml"];
+    args.extend(extra);
+    args.extend(outputs.iter().map(String::as_str));
+    hopsim(&args)
+}
+
 #[test]
 fn run_writes_every_output_and_a_complete_summary() {
     let dir = tempfile::tempdir().unwrap();
-    let p = |name: &str| dir.path().join(name).display().to_string();
-    let out = hopsim(&[
-        "run",
-        "scenes/robbit.toml",
-        "--duration",
-        "1.5",
-        "--mcap",
-        &p("r.mcap"),
-        "--rrd",
-        &p("r.rrd"),
-        "--csv",
-        &p("r.csv"),
-        "--summary",
-        &p("r.json"),
-    ]);
+    let out = run_robbit_with_every_output(dir.path(), &["--duration", "1.5"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(
@@ -135,35 +141,6 @@ fn an_invalid_scene_exits_2_with_its_location() {
 }
 
 #[test]
-fn a_runaway_state_stops_with_step_and_time_and_leaves_no_output() {
-    let dir = tempfile::tempdir().unwrap();
-    let mcap = dir.path().join("r.mcap").display().to_string();
-    let summary = dir.path().join("r.json").display().to_string();
-    // The flywheel passes 5 rad/s within a tenth of a second of motor torque.
-    let out = hopsim(&[
-        "run",
-        "scenes/robbit.toml",
-        "--set",
-        "simulation.max_speed=5",
-        "--mcap",
-        &mcap,
-        "--summary",
-        &summary,
-    ]);
-    assert_eq!(out.status.code(), Some(3));
-    let err = text(&out.stderr);
-    assert!(
-        err.contains("runaway state") && err.contains("step ") && err.contains("t = "),
-        "{err}"
-    );
-    assert!(
-        files_in(dir.path()).is_empty(),
-        "left {:?}",
-        files_in(dir.path())
-    );
-}
-
-#[test]
 fn scene_check_describes_a_valid_scene_and_rejects_a_broken_one() {
     let out = hopsim(&["scene", "check", "scenes/robbit.toml"]);
     assert!(out.status.success());
@@ -220,6 +197,27 @@ fn sweep_writes_a_row_per_run_in_grid_order_and_a_plot() {
         assert!(
             std::fs::metadata(out_dir.join(f)).unwrap().len() > 1000,
             "{f}"
+        );
+    }
+}
+
+/// `--speed` paces a live stream: a positive factor or `max`, and only with `--spawn`.
+#[test]
+fn speed_needs_spawn_and_a_positive_factor() {
+    let out = hopsim(&["run", "scenes/robbit.toml", "--speed", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("--spawn"),
+        "{}",
+        text(&out.stderr)
+    );
+    for bad in ["0", "fast"] {
+        let out = hopsim(&["run", "scenes/robbit.toml", "--spawn", "--speed", bad]);
+        assert_eq!(out.status.code(), Some(2));
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("positive factor") && err.contains("max"),
+            "{err}"
         );
     }
 }
@@ -303,39 +301,53 @@ fn interrupted_run(signals: &[libc::c_int]) -> (std::process::Output, Vec<PathBu
     (out, left)
 }
 
-/// Ctrl-C stops the run at the next step: exit 130, and neither outputs nor temporary
-/// files are left.
-#[cfg(unix)]
-#[test]
-fn an_interrupted_run_leaves_no_file() {
-    let (out, left) = interrupted_run(&[libc::SIGINT]);
-    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
-    assert!(
-        text(&out.stderr).contains("interrupted at t ="),
-        "{}",
-        text(&out.stderr)
-    );
-    assert_eq!(left, Vec::<PathBuf>::new());
+/// The recordings of an interrupted run (`interrupted_run` writes `a.*`).
+const PARTIAL_RECORDINGS: [&str; 4] = [
+    "a.partial.csv",
+    "a.partial.events.csv",
+    "a.partial.mcap",
+    "a.partial.rrd",
+];
+
+fn names(paths: &[PathBuf]) -> Vec<String> {
+    paths
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect()
 }
 
-/// SIGHUP and SIGTERM stop the run like Ctrl-C (exit 128 + the signal), and a second
-/// Ctrl-C 50 ms after the first removes the temporary files at once: nothing is left.
+/// Ctrl-C, SIGHUP and SIGTERM stop the run at the next step (exit 128 + the signal): the
+/// recordings up to there are kept under partial names with the reason, no complete
+/// output, summary or temporary file is left.
 #[cfg(unix)]
 #[test]
-fn hangups_and_repeated_interrupts_leave_no_file() {
-    for (signals, code) in [
-        (&[libc::SIGHUP][..], 129),
-        (&[libc::SIGTERM][..], 143),
-        (&[libc::SIGINT, libc::SIGINT][..], 130),
+fn an_interrupted_run_keeps_its_recordings_under_partial_names() {
+    for (signal, code) in [
+        (libc::SIGINT, 130),
+        (libc::SIGHUP, 129),
+        (libc::SIGTERM, 143),
     ] {
-        let (out, left) = interrupted_run(signals);
-        assert_eq!(
-            out.status.code(),
-            Some(code),
-            "{signals:?}: {}",
-            text(&out.stderr)
+        let (out, left) = interrupted_run(&[signal]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{signal}: {err}");
+        assert!(err.contains("interrupted at t ="), "{err}");
+        assert_eq!(names(&left), PARTIAL_RECORDINGS, "{signal}");
+        assert!(
+            err.contains("a.partial.mcap") && err.contains("summary was not written"),
+            "{err}"
         );
-        assert_eq!(left, Vec::<PathBuf>::new(), "{signals:?}");
+    }
+}
+
+/// A second Ctrl-C 50 ms after the first ends the process at once: whatever it had not
+/// yet kept is removed, and nothing complete-looking or temporary is left.
+#[cfg(unix)]
+#[test]
+fn repeated_interrupts_leave_no_complete_or_temporary_file() {
+    let (out, left) = interrupted_run(&[libc::SIGINT, libc::SIGINT]);
+    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    for name in names(&left) {
+        assert!(PARTIAL_RECORDINGS.contains(&name.as_str()), "left {name}");
     }
 }
 
@@ -484,4 +496,113 @@ fn unreasonable_numbers_are_refused_with_the_option_named() {
         "simulation.duration=1e5",
     ]);
     assert_eq!(raised.status.code(), Some(0), "{}", text(&raised.stderr));
+}
+
+/// Skips (with a notice) or, with HOPSIM_REQUIRE_PYTHON=1 (CI), fails.
+fn skip_or_fail(what: &str) {
+    assert!(
+        std::env::var("HOPSIM_REQUIRE_PYTHON").as_deref() != Ok("1"),
+        "{what}; HOPSIM_REQUIRE_PYTHON=1 requires it (pip install mcap rerun-sdk==0.36.3)"
+    );
+    eprintln!("notice: skipping: {what} (set HOPSIM_REQUIRE_PYTHON=1 to make this an error)");
+}
+
+/// Reads an MCAP recording with the Python `mcap` reader: the `hopsim_stop` metadata, the
+/// number of states and the last state's step. Exit 77 without the package.
+const READ_MCAP: &str = r#"
+import json, sys
+try:
+    from mcap.reader import make_reader
+except ImportError as e:
+    print(e, file=sys.stderr)
+    sys.exit(77)
+with open(sys.argv[1], "rb") as f:
+    reader = make_reader(f)
+    steps = [json.loads(m.data)["step"]
+             for _, _, m in reader.iter_messages(topics=["/hopsim/state"])]
+    metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
+print(json.dumps({"steps": steps, "stop": metadata.get("hopsim_stop")}))
+"#;
+
+/// Robbit with a speed limit its flywheel passes within a tenth of a second of motor
+/// torque: the run stops with a runaway state at a step the error names.
+#[test]
+fn a_runaway_keeps_the_recordings_up_to_the_step_before_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).display().to_string();
+    let out = run_robbit_with_every_output(dir.path(), &["--set", "simulation.max_speed=5"]);
+    assert_eq!(out.status.code(), Some(3));
+    let err = text(&out.stderr);
+    assert!(err.contains("runaway state"), "{err}");
+    // "step N (t = …): runaway state": the failing step.
+    let failed: u64 = err
+        .split("step ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no step in {err}"));
+    assert_eq!(
+        names(&files_in(dir.path())),
+        [
+            "r.partial.csv",
+            "r.partial.events.csv",
+            "r.partial.mcap",
+            "r.partial.rrd"
+        ],
+        "only partial recordings, no summary"
+    );
+    assert!(err.contains(&p("r.partial.mcap")), "{err}");
+
+    // The Rust reader opens the partial MCAP: states up to the step before the failure,
+    // the last within one recording interval (1 ms = 5 steps of 0.2 ms) of it.
+    let rec = hopsim_record::McapRecording::read(&dir.path().join("r.partial.mcap")).unwrap();
+    let last = rec.states.last().unwrap().step;
+    assert!(
+        last < failed && last + 5 >= failed - 1,
+        "{last} vs {failed}"
+    );
+
+    // CSV: the frames up to there; the events end with the stop.
+    let csv = std::fs::read_to_string(dir.path().join("r.partial.csv")).unwrap();
+    let last_row = csv.lines().last().unwrap();
+    assert_eq!(last_row.split(',').nth(1), Some(last.to_string().as_str()));
+    let events = std::fs::read_to_string(dir.path().join("r.partial.events.csv")).unwrap();
+    let stop = events.lines().last().unwrap();
+    assert!(
+        stop.contains(&format!(",{},stopped,", failed - 1)) && stop.contains("runaway state"),
+        "{stop}"
+    );
+
+    // The Python reader: the same states and the stop in the metadata.
+    let script = dir.path().join("read.py");
+    std::fs::write(&script, READ_MCAP).unwrap();
+    let mcap = dir.path().join("r.partial.mcap");
+    let python = match Command::new("python3").arg(&script).arg(&mcap).output() {
+        Ok(o) if o.status.code() == Some(77) => return skip_or_fail("Python package mcap missing"),
+        Ok(o) => o,
+        Err(_) => return skip_or_fail("python3 is not installed"),
+    };
+    assert!(python.status.success(), "{}", text(&python.stderr));
+    let read: serde_json::Value = serde_json::from_slice(&python.stdout).unwrap();
+    let steps = read["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), rec.states.len());
+    assert_eq!(steps.last().unwrap(), last);
+    assert_eq!(read["stop"]["step"], (failed - 1).to_string());
+    let reason = read["stop"]["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("runaway state") && reason.contains(&format!("step {failed}")),
+        "{reason}"
+    );
+
+    // The Rerun CLI loads the partial .rrd.
+    let rrd = dir.path().join("r.partial.rrd");
+    match Command::new("rerun")
+        .args(["rrd", "verify"])
+        .arg(&rrd)
+        .env("RERUN_ANALYTICS", "0")
+        .output()
+    {
+        Ok(o) => assert!(o.status.success(), "{}", text(&o.stderr)),
+        Err(_) => skip_or_fail("the `rerun` CLI is not on PATH"),
+    }
 }

@@ -1,9 +1,10 @@
 //! Signals: SIGINT (Ctrl-C), SIGTERM and SIGHUP. During `hopsim run` the first signal asks
-//! the run loop to stop at the next step, so that its recorders delete their temporary
-//! files and the error says where it stopped. Otherwise, and on a second signal, every
-//! temporary output file is deleted at once ([`hopsim_io::remove_temporary_files`]) and the
-//! process exits with 128 + the signal's number. Either way outputs are complete or as
-//! they were before.
+//! the run loop to stop at the next step, so that its recordings up to there are kept under
+//! partial names (`FILE.partial.mcap`) and the error says where it stopped. Otherwise, and
+//! on a second signal, every temporary output file is deleted at once
+//! ([`hopsim_io::remove_temporary_files`]) and the process exits with 128 + the signal's
+//! number. Either way the complete outputs' names hold complete files or what was there
+//! before.
 //!
 //! The handler only sets a flag and writes the signal's number to a pipe
 //! (async-signal-safe); a watcher thread reads the pipe and does the rest.

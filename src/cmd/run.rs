@@ -2,7 +2,7 @@
 
 use anyhow::Context;
 use clap::Args;
-use hopsim_record::{AtomicFile, CsvRecorder, McapRecorder, RecorderSet, RerunRecorder};
+use hopsim_record::{AtomicFile, CsvRecorder, McapRecorder, Pace, RecorderSet, RerunRecorder};
 use hopsim_scene::Override;
 use hopsim_sim::{recording_info, RecordingObserver, RunError};
 use hopsim_step::StepError;
@@ -32,6 +32,15 @@ pub struct RunArgs {
     /// Stream to a live Rerun viewer (needs the `rerun` viewer on PATH).
     #[arg(long)]
     pub spawn: bool,
+    /// Pace of the live stream: simulated seconds per second of wall-clock time (1: real
+    /// time, 0.25: four times slower), or `max` for as fast as the simulation runs.
+    #[arg(
+        long,
+        value_name = "FACTOR|max",
+        requires = "spawn",
+        default_value = "1"
+    )]
+    pub speed: Pace,
     /// Write the recorded frames as CSV (events go to FILE's stem + .events.csv).
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
@@ -68,7 +77,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         recorders.push(Box::new(RerunRecorder::save(path, &info)?));
     }
     if args.spawn {
-        recorders.push(Box::new(RerunRecorder::spawn(&info)?));
+        recorders.push(Box::new(RerunRecorder::spawn(&info, args.speed)?));
     }
     if let Some(path) = &args.csv {
         recorders.push(Box::new(CsvRecorder::create(path, &info)?));
@@ -95,9 +104,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
                     "note: u_{index} is the rate of '{name}' (simulation.max_speed sets the limit)"
                 );
             }
-            if observer.records_anything() || summary_file.is_some() {
-                eprintln!("error: no output was written: the run did not finish");
-            }
+            report_partial_outputs(observer, &err, summary_file.is_some());
             return Ok(ExitCode::from(match err {
                 RunError::Step(_) | RunError::NotFinite { .. } => exit::SIMULATION_FAILED,
                 RunError::Record(_) => 1,
@@ -118,6 +125,31 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         println!("{summary}");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Keeps the recordings of a run stopped by `err` under their partial names and says
+/// where they are (a recording that failed itself is not kept); the summary is not written.
+fn report_partial_outputs(observer: RecordingObserver, err: &RunError, summary: bool) {
+    let kept = match err {
+        RunError::Record(_) => Ok(Vec::new()),
+        _ if observer.records_anything() => observer.finish_partial(err),
+        _ => Ok(Vec::new()),
+    };
+    match kept {
+        Ok(kept) if !kept.is_empty() => {
+            let names: Vec<String> = kept.iter().map(|p| p.display().to_string()).collect();
+            eprintln!(
+                "note: the recordings up to the stop are kept, with the reason in their \
+                 metadata: {}",
+                names.join(", ")
+            );
+        }
+        Ok(_) => {}
+        Err(e) => eprintln!("error: the recordings up to the stop could not be kept: {e}"),
+    }
+    if summary {
+        eprintln!("error: the run summary was not written: the run did not finish");
+    }
 }
 
 /// Output files must differ from each other and from the scene file: a summary written

@@ -70,10 +70,31 @@ impl AtomicFile {
 
     /// Flushes, syncs and renames the temporary file to the final path.
     pub fn commit(self) -> Result<(), IoError> {
-        let io = |source| IoError::new(&self.path, source);
+        let path = self.path.clone();
+        self.persist_as(&path)
+    }
+
+    /// Flushes, syncs and renames the temporary file to the [`partial_path`] of the final
+    /// path (what was written before a run stopped early); returns that path. The final
+    /// path is left as it was.
+    pub fn commit_partial(self) -> Result<PathBuf, IoError> {
+        let partial = partial_path(&self.path);
+        self.commit_as(&partial)
+    }
+
+    /// Flushes, syncs and renames the temporary file to `path` instead of the final path
+    /// (which is left as it was); returns the file written (the target of a link at `path`).
+    pub fn commit_as(self, path: &Path) -> Result<PathBuf, IoError> {
+        let target = output_target(path)?;
+        self.persist_as(&target)?;
+        Ok(target)
+    }
+
+    fn persist_as(self, path: &Path) -> Result<(), IoError> {
+        let io = |source| IoError::new(path, source);
         let file = self.file.into_inner().map_err(|e| io(e.into_error()))?;
         file.as_file().sync_all().map_err(io)?;
-        file.persist(&self.path).map_err(|e| io(e.error))?;
+        file.persist(path).map_err(|e| io(e.error))?;
         Ok(())
     }
 }
@@ -134,12 +155,37 @@ impl AtomicPath {
 
     /// Syncs the written temporary file and renames it to the final path.
     pub fn commit(self) -> Result<(), IoError> {
-        let io = |source| IoError::new(&self.path, source);
+        let path = self.path.clone();
+        self.persist_as(&path)
+    }
+
+    /// Syncs the written temporary file and renames it to the [`partial_path`] of the
+    /// final path; returns that path. The final path is left as it was.
+    pub fn commit_partial(self) -> Result<PathBuf, IoError> {
+        let partial = output_target(&partial_path(&self.path))?;
+        self.persist_as(&partial)?;
+        Ok(partial)
+    }
+
+    fn persist_as(self, path: &Path) -> Result<(), IoError> {
+        let io = |source| IoError::new(path, source);
         std::fs::File::open(&self.temporary)
             .and_then(|f| f.sync_all())
             .map_err(io)?;
-        self.temporary.persist(&self.path).map_err(|e| io(e.error))
+        self.temporary.persist(path).map_err(|e| io(e.error))
     }
+}
+
+/// Where the output `path` of a run that stopped early is kept: `.partial` before the
+/// extension (`out/robbit.mcap` → `out/robbit.partial.mcap`, `run` → `run.partial`), a
+/// name that cannot be mistaken for the complete output.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+    let name = match path.extension() {
+        Some(ext) => format!("{stem}.partial.{}", ext.to_string_lossy()),
+        None => format!("{stem}.partial"),
+    };
+    path.with_file_name(name)
 }
 
 /// Writes `path` atomically: `write` fills the temporary file, which replaces `path` only if
@@ -327,6 +373,30 @@ mod tests {
 
         let err = write_atomically(&real.join("x.mcap"), |w| w.write_all(b"x")).unwrap_err();
         assert!(err.to_string().contains("real.txt` is a file"), "{err}");
+    }
+
+    #[test]
+    fn a_partial_commit_goes_beside_the_target_under_a_partial_name() {
+        assert_eq!(
+            partial_path(Path::new("out/robbit.mcap")),
+            Path::new("out/robbit.partial.mcap")
+        );
+        assert_eq!(partial_path(Path::new("run")), Path::new("run.partial"));
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("run.csv");
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"half").unwrap();
+        let kept = file.commit_partial().unwrap();
+        assert_eq!(kept, dir.path().join("run.partial.csv"));
+        assert_eq!(std::fs::read_to_string(&kept).unwrap(), "half");
+        let reserved = AtomicPath::create(&dir.path().join("run.rrd")).unwrap();
+        std::fs::write(reserved.temporary(), "rrd").unwrap();
+        assert_eq!(
+            reserved.commit_partial().unwrap(),
+            dir.path().join("run.partial.rrd")
+        );
+        assert!(!path.exists() && !dir.path().join("run.rrd").exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
     }
 
     #[test]

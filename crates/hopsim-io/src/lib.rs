@@ -9,7 +9,9 @@ mod atomic;
 mod bounded;
 mod csv;
 
-pub use atomic::{create_dir, remove_temporary_files, write_atomically, AtomicFile, AtomicPath};
+pub use atomic::{
+    create_dir, partial_path, remove_temporary_files, write_atomically, AtomicFile, AtomicPath,
+};
 pub use bounded::{read_bounded, read_text_bounded, Content};
 pub use csv::{csv_field, Cell, CsvTable};
 

@@ -2,8 +2,8 @@
 
 use crate::frame::FrameLayout;
 use crate::geometry::CoordinateUnit;
-use crate::{AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo};
-use hopsim_io::csv_field;
+use crate::{AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo, Stop};
+use hopsim_io::{csv_field, partial_path};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -106,5 +106,22 @@ impl Recorder for CsvRecorder {
         // The events first: the frames file appearing means both are complete.
         self.events.commit()?;
         Ok(self.frames.commit()?)
+    }
+
+    /// `FILE.partial.csv` and `FILE.partial.events.csv`, the latter ending with a row of
+    /// kind `stopped` at the last completed step, its `details` the reason.
+    fn finish_partial(mut self: Box<Self>, stop: &Stop) -> Result<Vec<PathBuf>, RecordError> {
+        let reason = format!("reason={}", stop.reason);
+        writeln!(
+            self.events,
+            "{:?},{},stopped,{}",
+            stop.t,
+            stop.step,
+            csv_field(&reason)
+        )
+        .map_err(|e| RecordError::io(self.events.path(), e))?;
+        let frames = partial_path(self.frames.path());
+        let events = self.events.commit_as(&Self::events_path(&frames))?;
+        Ok(vec![self.frames.commit_as(&frames)?, events])
     }
 }

@@ -36,6 +36,9 @@ pub struct RecordingInfo {
     /// Rerun (an arrow as long as the robot is a force equal to its weight); a value that
     /// is not positive and finite falls back to 0.01 m/N.
     pub weight_newtons: f64,
+    /// Whether a controller drives the robot (actuator torque and work are recorded
+    /// either way; the Rerun view plots them only then).
+    pub actuated: bool,
 }
 
 /// Pose of one body.

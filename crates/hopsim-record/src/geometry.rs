@@ -1,7 +1,7 @@
-//! Drawing geometry shared by the recorders: shape outlines, terrain pieces, units of the
-//! generalised coordinates.
+//! Drawing geometry shared by the recorders: shape outlines, terrain pieces and how far
+//! they are drawn, series colours, units of the generalised coordinates.
 
-use crate::BodyPose;
+use crate::RecordingInfo;
 use hopsim_model::{Shape, Terrain, TerrainFeature};
 use std::f64::consts::TAU;
 
@@ -104,13 +104,121 @@ impl Outline {
     }
 }
 
-/// `p` (body frame) in world coordinates for a body at `pose`.
-pub(crate) fn to_world(pose: &BodyPose, p: Point) -> Point {
-    let (s, c) = pose.angle.sin_cos();
-    [
-        pose.position[0] + c * p[0] - s * p[1],
-        pose.position[1] + s * p[0] + c * p[1],
-    ]
+/// What is drawn of each body (in its frame) and the size of the robot.
+pub(crate) struct RobotShapes {
+    /// Per body (order of `RecordingInfo::bodies`): its shapes' outlines.
+    pub(crate) outlines: Vec<Vec<Outline>>,
+    /// Per body: length of a body-fixed spoke along its x axis that shows its rotation, m
+    /// (the body's reach, or half the robot's size for a body without shapes).
+    pub(crate) spokes_m: Vec<f64>,
+    /// Size of the robot: the largest reach of a shape from its body's centre of mass, m
+    /// (0.1 m for a robot without shapes).
+    pub(crate) size_m: f64,
+}
+
+impl RobotShapes {
+    pub(crate) fn of(info: &RecordingInfo) -> Self {
+        let outlines: Vec<Vec<Outline>> = info
+            .bodies
+            .iter()
+            .map(|b| b.shapes.iter().map(|(_, s)| Outline::of(s)).collect())
+            .collect();
+        let reach: Vec<f64> = outlines
+            .iter()
+            .map(|o| o.iter().map(Outline::reach).fold(0.0, f64::max))
+            .collect();
+        let largest = reach.iter().copied().fold(0.0, f64::max);
+        let size_m = if largest > 0.0 { largest } else { 0.1 };
+        let spokes_m = reach
+            .into_iter()
+            .map(|r| if r > 0.0 { r } else { 0.5 * size_m })
+            .collect();
+        Self {
+            outlines,
+            spokes_m,
+            size_m,
+        }
+    }
+}
+
+/// The stretch of terrain drawn so far: it grows ahead of the robot, geometrically, so
+/// that it is drawn again rarely however far the robot goes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TerrainCover {
+    /// Abscissae covered, m (empty before the first [`TerrainCover::cover`]).
+    pub(crate) range: (f64, f64),
+    /// How far beyond the robot the terrain reaches at least, m.
+    margin: f64,
+}
+
+impl TerrainCover {
+    /// Nothing covered yet, for a robot of size `robot_size_m`: a few robot sizes around it
+    /// (a viewer fits what it shows, so a long terrain line would shrink the robot to a dot).
+    pub(crate) fn new(robot_size_m: f64) -> Self {
+        Self {
+            range: (f64::INFINITY, f64::NEG_INFINITY),
+            margin: (3.0 * robot_size_m).max(0.5),
+        }
+    }
+
+    /// Widens the range so that it reaches well beyond `x` on both sides; true if it
+    /// changed (and must be drawn again).
+    pub(crate) fn cover(&mut self, x: f64) -> bool {
+        if !x.is_finite() {
+            return false;
+        }
+        let margin = self.margin;
+        let (lo, hi) = self.range;
+        if lo.is_finite() && x - lo >= 0.5 * margin && hi - x >= 0.5 * margin {
+            return false;
+        }
+        let width = if lo.is_finite() { hi - lo } else { 0.0 };
+        self.range = if !lo.is_finite() {
+            (x - margin, x + margin)
+        } else if x - lo < 0.5 * margin {
+            (x - margin.max(width), hi)
+        } else {
+            (lo, x + margin.max(width))
+        };
+        true
+    }
+}
+
+/// Colours of bodies and of the series of one plot, by index (cycled): the Tableau 10
+/// palette, whose neighbours differ clearly in hue.
+pub(crate) const PALETTE: [[u8; 3]; 10] = [
+    [31, 119, 180],
+    [255, 127, 14],
+    [44, 160, 44],
+    [214, 39, 40],
+    [148, 103, 189],
+    [140, 86, 75],
+    [227, 119, 194],
+    [127, 127, 127],
+    [188, 189, 34],
+    [23, 190, 207],
+];
+
+/// Colour `index` of [`PALETTE`] (cycled).
+pub(crate) fn palette(index: usize) -> [u8; 3] {
+    PALETTE[index % PALETTE.len()]
+}
+
+/// Colour of inactive shapes (a retracted cane).
+pub(crate) const INACTIVE_COLOR: [u8; 3] = [170, 170, 170];
+
+/// Colour of the terrain.
+pub(crate) const TERRAIN_COLOR: [u8; 3] = [90, 90, 90];
+
+/// `angle` wrapped to (−π, π], rad.
+pub(crate) fn wrap_angle(angle: f64) -> f64 {
+    use std::f64::consts::PI;
+    let wrapped = angle - TAU * (angle / TAU).round();
+    if wrapped <= -PI {
+        wrapped + TAU
+    } else {
+        wrapped
+    }
 }
 
 /// The terrain between abscissae `x_lo` and `x_hi`: line pieces as segments (infinite
@@ -203,12 +311,33 @@ mod tests {
     }
 
     #[test]
-    fn body_points_rotate_with_the_body() {
-        let pose = BodyPose {
-            position: [1.0, 2.0],
-            angle: std::f64::consts::FRAC_PI_2,
-        };
-        assert!(close(to_world(&pose, [0.5, 0.0]), [1.0, 2.5]));
+    fn wrapped_angles_lie_in_the_half_open_interval_and_keep_sin_and_cos() {
+        use std::f64::consts::PI;
+        assert_eq!(wrap_angle(PI), PI);
+        assert_eq!(wrap_angle(-PI), PI);
+        for k in -2000_i32..2000 {
+            let a = 0.0137 * f64::from(k * k.abs());
+            let w = wrap_angle(a);
+            assert!(w > -PI && w <= PI, "{a} -> {w}");
+            // Round-off of a - 2πn grows with |a|: a few ulps of |a|.
+            let tol = 8.0 * f64::EPSILON * a.abs().max(1.0);
+            assert!((w.sin() - a.sin()).abs() < tol && (w.cos() - a.cos()).abs() < tol);
+        }
+    }
+
+    #[test]
+    fn terrain_coverage_grows_ahead_of_the_robot_and_rarely() {
+        let mut cover = TerrainCover::new(0.1);
+        assert!(cover.cover(0.0));
+        let (lo, hi) = cover.range;
+        assert!(lo <= -0.5 && hi >= 0.5);
+        assert!(!cover.cover(0.1), "well inside: no redraw");
+        assert!(!cover.cover(f64::NAN));
+        let redraws = (0..10_000)
+            .filter(|&k| cover.cover(k as f64 * 1e-2))
+            .count();
+        assert!(redraws <= 10, "{redraws} redraws over 100 m");
+        assert!(cover.range.1 >= 100.0 && cover.range.0 <= -0.5);
     }
 
     #[test]

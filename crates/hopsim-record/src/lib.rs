@@ -7,9 +7,8 @@
 
 mod compare;
 mod csv;
+mod foxglove;
 mod frame;
-// Shape outlines and terrain pieces are drawn by the Rerun recorder only.
-#[cfg_attr(not(feature = "rerun"), allow(dead_code))]
 mod geometry;
 mod mcap_format;
 mod mcap_read;
@@ -21,18 +20,22 @@ pub use compare::{
     diff_recorded_states, diff_run_files, RunDiff, RunDiffOptions, StateDifference, StateMismatch,
 };
 pub use csv::{frame_columns, frame_values, CsvRecorder};
+pub use foxglove::{body_frame, SCENE_TOPIC as FOXGLOVE_SCENE_TOPIC};
+pub use foxglove::{TRANSFORMS_TOPIC as FOXGLOVE_TRANSFORMS_TOPIC, WORLD_FRAME};
 pub use frame::{
     BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecordingInfo,
 };
-pub use hopsim_io::{write_atomically, AtomicFile};
-pub use mcap_format::{CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC};
+pub use hopsim_io::{partial_path, write_atomically, AtomicFile};
+pub use mcap_format::{
+    CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC, STOP_METADATA_NAME,
+};
 pub use mcap_read::{
     McapRecording, RecordingMetadata, SceneAttachment, StateSample, BRAKE_CHANNEL,
     MAX_RECORDING_BYTES,
 };
 pub use mcap_write::McapRecorder;
 #[cfg(feature = "rerun")]
-pub use rerun_sink::{RerunRecorder, RERUN_VIEWER_INSTALL, STEP_TIMELINE, TIME_TIMELINE};
+pub use rerun_sink::{Pace, RerunRecorder, RERUN_VIEWER_INSTALL, STEP_TIMELINE, TIME_TIMELINE};
 
 /// Types of the public API from other hopsim crates, re-exported for the CLI and tests.
 pub use hopsim_model::{Shape, Terrain};
@@ -40,7 +43,7 @@ pub use hopsim_step::{
     ImpulseSample, ImpulseTrace, TraceDifference, TraceTolerance, MAX_TRACE_BYTES,
 };
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// What can go wrong while recording or reading a recording.
 #[derive(Debug, thiserror::Error)]
@@ -79,6 +82,28 @@ impl RecordError {
     }
 }
 
+/// Why a run stopped before its end, and the last step it completed: what a recording
+/// kept after the stop says about itself.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stop {
+    /// The error that stopped the run, in words.
+    pub reason: String,
+    /// The last step the run completed (0: none after the initial state).
+    pub step: u64,
+    /// Simulation time at the end of that step, s.
+    pub t: f64,
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the run stopped after step {} (t = {} s): {}",
+            self.step, self.t, self.reason
+        )
+    }
+}
+
 /// A sink for frames and events. `finish` makes the output complete (e.g. renames the
 /// temporary file into place); a recorder dropped without `finish` leaves no file that
 /// looks complete.
@@ -89,6 +114,14 @@ pub trait Recorder {
     fn event(&mut self, event: &Event) -> Result<(), RecordError>;
     /// Completes the output.
     fn finish(self: Box<Self>) -> Result<(), RecordError>;
+    /// Keeps what was recorded before the run stopped, with `stop` in the recording, under
+    /// the [`partial_path`] of each output (`robbit.partial.mcap`); returns those paths.
+    /// The complete outputs' paths are left as they were. A recorder without files (frames
+    /// kept in memory) keeps nothing.
+    fn finish_partial(self: Box<Self>, stop: &Stop) -> Result<Vec<PathBuf>, RecordError> {
+        let _ = stop;
+        Ok(Vec::new())
+    }
 }
 
 /// Several recorders fed the same frames and events, in the order they were pushed.
@@ -116,6 +149,21 @@ impl RecorderSet {
     /// Hands `event` to every recorder; stops at the first error.
     pub fn event(&mut self, event: &Event) -> Result<(), RecordError> {
         self.recorders.iter_mut().try_for_each(|r| r.event(event))
+    }
+
+    /// Keeps every recorder's output up to `stop` ([`Recorder::finish_partial`]), even
+    /// after one failed; returns the files kept, or the first error.
+    pub fn finish_partial(self, stop: &Stop) -> Result<Vec<PathBuf>, RecordError> {
+        let mut kept = Vec::new();
+        let mut first = Ok(());
+        for recorder in self.recorders {
+            match recorder.finish_partial(stop) {
+                Ok(paths) => kept.extend(paths),
+                Err(e) if first.is_ok() => first = Err(e),
+                Err(_) => {}
+            }
+        }
+        first.map(|()| kept)
     }
 
     /// Finishes every recorder, even after one failed, and returns the first error.

@@ -23,6 +23,9 @@ pub const ENERGY_TOPIC: &str = "/hopsim/energy";
 pub const EVENTS_TOPIC: &str = "/hopsim/events";
 /// Name of the metadata record describing the run.
 pub const METADATA_NAME: &str = "hopsim";
+/// Name of the metadata record of a recording kept after the run stopped early: why, and
+/// the last step completed.
+pub const STOP_METADATA_NAME: &str = "hopsim_stop";
 /// Media type of the scene-file attachment.
 pub(crate) const SCENE_MEDIA_TYPE: &str = "application/toml";
 /// Version of this format, stored in the metadata record.

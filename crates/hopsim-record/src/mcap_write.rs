@@ -1,12 +1,15 @@
 //! [`McapRecorder`]: JSON messages with JSON Schemas in a chunked, zstd-compressed MCAP file
 //! that Foxglove and the Python `mcap` reader open (docs/recording.md).
 
+use crate::foxglove::{
+    FoxgloveScene, SCENE_SCHEMA, SCENE_TOPIC, TRANSFORMS_SCHEMA, TRANSFORMS_TOPIC,
+};
 use crate::frame::FrameLayout;
 use crate::mcap_format::{
     metadata, Channel, ContactsMessage, EnergyMessage, StateMessage, MESSAGE_ENCODING,
-    METADATA_NAME, SCENE_MEDIA_TYPE, SCHEMA_ENCODING,
+    METADATA_NAME, SCENE_MEDIA_TYPE, SCHEMA_ENCODING, STOP_METADATA_NAME,
 };
-use crate::{AtomicFile, Event, Frame, RecordError, Recorder, RecordingInfo};
+use crate::{AtomicFile, Event, Frame, RecordError, Recorder, RecordingInfo, Stop};
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, Compression, WriteOptions, Writer};
 use serde::Serialize;
@@ -15,11 +18,13 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Writes a hopsim MCAP recording: channels `/hopsim/state`, `/hopsim/contacts`,
-/// `/hopsim/energy` (one message each per frame) and `/hopsim/events` (one per event), log
-/// and publish time = simulation time in ns; the scene file as an attachment and a
-/// metadata record `hopsim` describing the run.
+/// `/hopsim/energy` (one message each per frame) and `/hopsim/events` (one per event);
+/// Foxglove's `/foxglove/transforms` (per frame) and `/foxglove/scene` (when the scene
+/// changes) for its 3D panel; log and publish time = simulation time in ns; the scene file
+/// as an attachment and a metadata record `hopsim` describing the run.
 pub struct McapRecorder {
     out: MessageWriter,
+    scene: FoxgloveScene,
     layout: FrameLayout,
     coordinates: Vec<String>,
     bodies: Vec<String>,
@@ -29,12 +34,17 @@ pub struct McapRecorder {
 /// The MCAP writer with its channels.
 struct MessageWriter {
     writer: Writer<AtomicFile>,
-    /// Channel id and message count, indexed like [`Channel::ALL`].
-    channels: [(u16, u32); 4],
+    /// Channel id and message count, indexed like [`Channel::ALL`], then
+    /// [`SCENE_SLOT`] and [`TRANSFORMS_SLOT`].
+    channels: [(u16, u32); 6],
     /// Reused JSON buffer.
     buffer: Vec<u8>,
     path: PathBuf,
 }
+
+/// Channel slots of the Foxglove topics, after those of [`Channel::ALL`].
+const SCENE_SLOT: usize = Channel::ALL.len();
+const TRANSFORMS_SLOT: usize = SCENE_SLOT + 1;
 
 /// Simulation time in ns, the MCAP log and publish time (negative and NaN times map to 0).
 pub(crate) fn nanoseconds(t: f64) -> u64 {
@@ -49,6 +59,15 @@ pub(crate) fn scene_file_name(info: &RecordingInfo) -> String {
 }
 
 impl McapRecorder {
+    /// Writes the summary and index sections; the file is then complete but not yet in place.
+    fn close(self: Box<Self>) -> Result<AtomicFile, RecordError> {
+        let MessageWriter {
+            mut writer, path, ..
+        } = self.out;
+        writer.finish().map_err(|e| RecordError::format(&path, e))?;
+        Ok(writer.into_inner())
+    }
+
     /// Starts a recording at `path` (written under a temporary name until `finish`).
     pub fn create(path: &Path, info: &RecordingInfo) -> Result<Self, RecordError> {
         let err = |e: mcap::McapError| RecordError::format(path, e);
@@ -74,19 +93,21 @@ impl McapRecorder {
                 data: Cow::Borrowed(info.scene_text.as_bytes()),
             })
             .map_err(err)?;
-        let mut channels = [(0, 0); 4];
-        for (slot, channel) in channels.iter_mut().zip(Channel::ALL) {
-            let schema = channel.schema(info).to_string();
+        let ours = Channel::ALL.map(|c| (c.topic(), c.schema_name(), c.schema(info).to_string()));
+        let foxglove = [
+            (SCENE_TOPIC, SCENE_SCHEMA),
+            (TRANSFORMS_TOPIC, TRANSFORMS_SCHEMA),
+        ]
+        .map(|(topic, (name, schema))| (topic, name, schema.to_string()));
+        let mut channels = [(0, 0); 6];
+        for (slot, (topic, name, schema)) in
+            channels.iter_mut().zip(ours.into_iter().chain(foxglove))
+        {
             let schema_id = writer
-                .add_schema(channel.schema_name(), SCHEMA_ENCODING, schema.as_bytes())
+                .add_schema(name, SCHEMA_ENCODING, schema.as_bytes())
                 .map_err(err)?;
             let id = writer
-                .add_channel(
-                    schema_id,
-                    channel.topic(),
-                    MESSAGE_ENCODING,
-                    &BTreeMap::new(),
-                )
+                .add_channel(schema_id, topic, MESSAGE_ENCODING, &BTreeMap::new())
                 .map_err(err)?;
             *slot = (id, 0);
         }
@@ -97,6 +118,7 @@ impl McapRecorder {
                 buffer: Vec::with_capacity(1024),
                 path: path.to_path_buf(),
             },
+            scene: FoxgloveScene::new(info),
             layout: FrameLayout::of(info),
             coordinates: info.coordinates.clone(),
             bodies: info.bodies.iter().map(|b| b.name.clone()).collect(),
@@ -113,10 +135,20 @@ impl MessageWriter {
         t: f64,
         message: &impl Serialize,
     ) -> Result<(), RecordError> {
+        self.write_slot(channel as usize, t, message)
+    }
+
+    /// Serialises `message` and writes it on the channel of `slot` at simulation time `t`.
+    fn write_slot(
+        &mut self,
+        slot: usize,
+        t: f64,
+        message: &impl Serialize,
+    ) -> Result<(), RecordError> {
         self.buffer.clear();
         serde_json::to_writer(&mut self.buffer, message)
             .map_err(|e| RecordError::format(&self.path, e))?;
-        let (channel_id, count) = &mut self.channels[channel as usize];
+        let (channel_id, count) = &mut self.channels[slot];
         let time = nanoseconds(t);
         let header = MessageHeader {
             channel_id: *channel_id,
@@ -144,7 +176,12 @@ impl Recorder for McapRecorder {
             names: &self.contacts,
         };
         out.write(Channel::Contacts, frame.t, &contacts)?;
-        out.write(Channel::Energy, frame.t, &EnergyMessage::new(frame))
+        out.write(Channel::Energy, frame.t, &EnergyMessage::new(frame))?;
+        if let Some(update) = self.scene.update(frame) {
+            out.write_slot(SCENE_SLOT, frame.t, &update)?;
+        }
+        let transforms = self.scene.transforms(frame);
+        out.write_slot(TRANSFORMS_SLOT, frame.t, &transforms)
     }
 
     fn event(&mut self, event: &Event) -> Result<(), RecordError> {
@@ -152,10 +189,27 @@ impl Recorder for McapRecorder {
     }
 
     fn finish(self: Box<Self>) -> Result<(), RecordError> {
-        let MessageWriter {
-            mut writer, path, ..
-        } = self.out;
-        writer.finish().map_err(|e| RecordError::format(&path, e))?;
-        Ok(writer.into_inner().commit()?)
+        Ok(self.close()?.commit()?)
+    }
+
+    /// `FILE.partial.mcap` with a metadata record [`STOP_METADATA_NAME`]: `reason`, `step`
+    /// and `t_s` of the last completed step.
+    fn finish_partial(mut self: Box<Self>, stop: &Stop) -> Result<Vec<PathBuf>, RecordError> {
+        let out = &mut self.out;
+        let metadata = [
+            ("reason", stop.reason.clone()),
+            ("step", stop.step.to_string()),
+            ("t_s", format!("{:?}", stop.t)),
+        ];
+        out.writer
+            .write_metadata(&Metadata {
+                name: STOP_METADATA_NAME.into(),
+                metadata: metadata
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v))
+                    .collect(),
+            })
+            .map_err(|e| RecordError::format(&out.path, e))?;
+        Ok(vec![self.close()?.commit_partial()?])
     }
 }

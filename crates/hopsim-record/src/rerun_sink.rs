@@ -1,22 +1,31 @@
 //! [`RerunRecorder`]: the run as a Rerun recording (`.rrd` file or live viewer), with the
 //! robot drawn in 2D and time series of its state, energies and contact impulses
 //! (entities and timelines in docs/recording.md).
+//!
+//! What changes every frame (time series, body poses, the centre of mass, springs,
+//! contact forces) is buffered in columns and sent in chunks ([`RecordingStream::send_columns`]);
+//! shape outlines are logged in their body's frame, once and again only when a shape is
+//! switched, and placed by the body's transform.
 
 use crate::frame::FrameLayout;
-use crate::geometry::{terrain_pieces, to_world, Outline, Point};
-use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo};
+use crate::geometry::{
+    palette, terrain_pieces, wrap_angle, CoordinateUnit, Outline, Point, RobotShapes, TerrainCover,
+    INACTIVE_COLOR, TERRAIN_COLOR,
+};
+use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo, Stop};
 use hopsim_io::AtomicPath;
-use hopsim_model::Terrain;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, TextLogView, TimePanel, TimeSeriesView,
     Vertical,
 };
 use rerun::{
-    Arrows2D, AsComponents, Color, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder,
-    Scalars, SeriesLines, TextLog, Transform3D,
+    Arrows2D, AsComponents, Color, LineStrips2D, Points2D, Quaternion, RecordingStream,
+    RecordingStreamBuilder, Scalars, SerializedComponentColumn, SeriesLines, TextDocument, TextLog,
+    TimeColumn, Transform3D,
 };
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::str::FromStr;
+use std::time::{Duration, Instant};
 
 /// How to get the Rerun viewer that matches the SDK hopsim is built with.
 pub const RERUN_VIEWER_INSTALL: &str = "pip install rerun-sdk==0.36.3";
@@ -34,17 +43,45 @@ const EVENT_MARKER_HOLD_S: f64 = 0.1;
 /// Points per logged piece of the centre-of-mass trail (`world/com/trail/<n>`): only the
 /// growing piece is logged again, so the trail costs little however long the run.
 const TRAIL_PIECE_POINTS: usize = 100;
-/// Colours of bodies, by body index (cycled).
-const BODY_COLORS: [[u8; 3]; 6] = [
-    [31, 119, 180],
-    [255, 127, 14],
-    [44, 160, 44],
-    [148, 103, 189],
-    [140, 86, 75],
-    [227, 119, 194],
-];
-/// Colour of inactive shapes (a retracted cane).
-const INACTIVE_COLOR: [u8; 3] = [170, 170, 170];
+/// Frames per chunk of the columns sent to a file.
+const CHUNK_FRAMES: usize = 1000;
+/// Longest wall-clock time the columns of a live stream are held back.
+const LIVE_FLUSH_INTERVAL: Duration = Duration::from_millis(50);
+/// Colour of the contact-force arrows.
+const FORCE_COLOR: [u8; 3] = [214, 39, 40];
+
+/// How fast a live stream ([`RerunRecorder::spawn`]) plays the run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pace {
+    /// `factor` simulated seconds per wall-clock second (1: real time).
+    Speed(f64),
+    /// As fast as the simulation runs.
+    Unpaced,
+}
+
+impl Default for Pace {
+    fn default() -> Self {
+        Pace::Speed(1.0)
+    }
+}
+
+/// `max` or a positive factor, e.g. `0.25` (four times slower than real time).
+impl FromStr for Pace {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s.trim() == "max" {
+            return Ok(Pace::Unpaced);
+        }
+        match s.trim().parse::<f64>() {
+            Ok(f) if f.is_finite() && f > 0.0 => Ok(Pace::Speed(f)),
+            _ => Err(format!(
+                "`{s}` is not a speed: give a positive factor of real time (1 = real time, \
+                 0.5 = half speed) or `max` (as fast as possible)"
+            )),
+        }
+    }
+}
 
 /// Streams a run to Rerun: a `.rrd` file ([`RerunRecorder::save`]) or a live viewer
 /// ([`RerunRecorder::spawn`]).
@@ -53,9 +90,37 @@ pub struct RerunRecorder {
     stream: RecordingStream,
     output: Option<AtomicPath>,
     drawing: Drawing,
+    columns: Columns,
     layout: FrameLayout,
+    /// Live stream: pacing and when the columns were last sent.
+    live: Option<Live>,
     /// Where errors point: the `.rrd` path or "Rerun viewer".
     target: PathBuf,
+}
+
+/// A live stream's clock.
+struct Live {
+    pace: Pace,
+    /// Wall-clock instant and simulation time of the first frame.
+    start: Option<(Instant, f64)>,
+    last_flush: Instant,
+}
+
+impl Live {
+    /// Sleeps until the wall clock reaches simulation time `t` at the pace.
+    fn wait_for(&mut self, t: f64) {
+        let Pace::Speed(speed) = self.pace else {
+            return;
+        };
+        let now = Instant::now();
+        let (start, t0) = *self.start.get_or_insert((now, t));
+        let ahead = (t - t0) / speed;
+        if let Ok(ahead) = Duration::try_from_secs_f64(ahead) {
+            if let Some(wait) = (start + ahead).checked_duration_since(now) {
+                std::thread::sleep(wait);
+            }
+        }
+    }
 }
 
 impl RerunRecorder {
@@ -66,13 +131,13 @@ impl RerunRecorder {
         let stream = builder(info)
             .save(output.temporary())
             .map_err(|e| RecordError::format(path, e))?;
-        Self::start(stream, Some(output), path.to_path_buf(), info)
+        Self::start(stream, Some(output), None, path.to_path_buf(), info)
     }
 
     /// Streams to a live Rerun viewer, started from the `rerun` executable on `PATH` (or
-    /// reused if one listens on the default port). The viewer must match the SDK:
-    /// [`RERUN_VIEWER_INSTALL`].
-    pub fn spawn(info: &RecordingInfo) -> Result<Self, RecordError> {
+    /// reused if one listens on the default port), at `pace`. The viewer must match the
+    /// SDK: [`RERUN_VIEWER_INSTALL`].
+    pub fn spawn(info: &RecordingInfo, pace: Pace) -> Result<Self, RecordError> {
         let options = rerun::SpawnOptions::default();
         find_viewer(
             &options.executable_name,
@@ -84,12 +149,24 @@ impl RerunRecorder {
                  `{RERUN_VIEWER_INSTALL}`)"
             ))
         })?;
-        Self::start(stream, None, PathBuf::from("Rerun viewer"), info)
+        let live = Live {
+            pace,
+            start: None,
+            last_flush: Instant::now(),
+        };
+        Self::start(
+            stream,
+            None,
+            Some(live),
+            PathBuf::from("Rerun viewer"),
+            info,
+        )
     }
 
     fn start(
         stream: RecordingStream,
         output: Option<AtomicPath>,
+        live: Option<Live>,
         target: PathBuf,
         info: &RecordingInfo,
     ) -> Result<Self, RecordError> {
@@ -97,10 +174,12 @@ impl RerunRecorder {
             stream,
             output,
             drawing: Drawing::new(info),
+            columns: Columns::new(info),
             layout: FrameLayout::of(info),
+            live,
             target,
         };
-        recorder.log_static_entities(info)?;
+        recorder.log_static_entities()?;
         Ok(recorder)
     }
 
@@ -118,41 +197,71 @@ impl RerunRecorder {
             .map_err(|e| self.error(e))
     }
 
-    /// The y-up transform and the names of the plotted series.
-    fn log_static_entities(&mut self, info: &RecordingInfo) -> Result<(), RecordError> {
+    /// The y-up transform, the names and colours of the plotted series, and what of each
+    /// body never changes: its centre of mass and spoke (body frame).
+    fn log_static_entities(&mut self) -> Result<(), RecordError> {
         // Rerun's 2D views draw y downwards; mirror so that y (physics.md §1) points up.
         self.log_static("world", &Transform3D::from_scale([1.0_f32, -1.0, 1.0]))?;
-        let (positions, angles) = info.coordinates.split_at(info.coordinates.len().min(2));
-        let series = [
-            (PLOT_POSITION, positions.to_vec()),
-            (PLOT_ANGLE, angles.to_vec()),
-            (PLOT_ENERGY, EnergySample::NAMES.map(String::from).to_vec()),
-            (PLOT_NORMAL_IMPULSE, info.contacts.clone()),
-            (PLOT_TANGENT_IMPULSE, info.contacts.clone()),
-            (PLOT_TORQUE, vec!["actuator_torque".to_string()]),
-        ];
-        for (entity, names) in series {
-            if !names.is_empty() {
-                self.log_static(entity, &SeriesLines::new().with_names(names))?;
-            }
+        for series in &self.columns.series {
+            let colors = (0..series.names.len()).map(|i| rgb(palette(series.first_color + i)));
+            self.log_static(
+                series.entity,
+                &SeriesLines::new()
+                    .with_names(series.names.iter().map(String::as_str))
+                    .with_colors(colors),
+            )?;
+        }
+        // Appearance of the per-frame columns (static: applies at every time).
+        let marker = self.drawing.marker_radius();
+        self.log_static(
+            "world/com",
+            &Points2D::update_fields()
+                .with_radii([1.5 * marker])
+                .with_colors([Color::from_rgb(0, 0, 0)]),
+        )?;
+        if self.columns.spring_count > 0 {
+            self.log_static(
+                "world/springs",
+                &LineStrips2D::update_fields().with_colors([Color::from_rgb(120, 120, 40)]),
+            )?;
+        }
+        if !self.drawing.contacts_empty {
+            self.log_static(
+                FORCE_ENTITY,
+                &Arrows2D::update_fields().with_colors([rgb(FORCE_COLOR)]),
+            )?;
+        }
+        for (b, body) in self.drawing.bodies.iter().enumerate() {
+            let color = rgb(palette(b));
+            self.log_static(
+                &format!("{}/com", body.entity),
+                &Points2D::new([[0.0_f32, 0.0]])
+                    .with_colors([color])
+                    .with_radii([marker]),
+            )?;
+            self.log_static(
+                &format!("{}/spoke", body.entity),
+                &LineStrips2D::new([[[0.0_f32, 0.0], [body.spoke_m as f32, 0.0]]])
+                    .with_colors([color]),
+            )?;
         }
         Ok(())
     }
 
     /// The terrain between the drawing's current bounds (static: shown at all times).
     fn log_terrain(&self) -> Result<(), RecordError> {
-        let (x_lo, x_hi) = self.drawing.terrain_range;
-        let (segments, corners) = terrain_pieces(&self.drawing.terrain, x_lo, x_hi);
+        let (x_lo, x_hi) = self.drawing.terrain.range;
+        let (segments, corners) = terrain_pieces(&self.drawing.terrain_shape, x_lo, x_hi);
         let strips = segments.iter().map(|s| s.map(f32_point));
         self.log_static(
             "world/terrain",
-            &LineStrips2D::new(strips).with_colors([Color::from_rgb(90, 90, 90)]),
+            &LineStrips2D::new(strips).with_colors([rgb(TERRAIN_COLOR)]),
         )?;
         self.log_static(
             "world/terrain/corners",
             &Points2D::new(corners.into_iter().map(f32_point))
                 .with_radii([self.drawing.marker_radius()])
-                .with_colors([Color::from_rgb(90, 90, 90)]),
+                .with_colors([rgb(TERRAIN_COLOR)]),
         )
     }
 
@@ -177,14 +286,23 @@ impl RerunRecorder {
         result
     }
 
-    fn log_bodies(&self, frame: &Frame<'_>) -> Result<(), RecordError> {
+    /// The outlines of every body whose shapes were switched since they were last logged
+    /// (all of them at the first frame), in the body's frame: inactive shapes grey.
+    fn log_outlines(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
+        if self.drawing.shapes_active.as_deref() == Some(frame.shapes_active) {
+            return Ok(());
+        }
+        let before = self.drawing.shapes_active.take();
         let marker = self.drawing.marker_radius();
-        let mut shape_index = 0;
-        for (b, (body, pose)) in self.drawing.bodies.iter().zip(frame.bodies).enumerate() {
-            let active = &frame.shapes_active[shape_index..shape_index + body.outlines.len()];
-            shape_index += body.outlines.len();
-            let color = |on: bool| rgb(if on { body_color(b) } else { INACTIVE_COLOR });
-            let world = |p: &Point| f32_point(to_world(pose, *p));
+        let mut first = 0;
+        for (b, body) in self.drawing.bodies.iter().enumerate() {
+            let range = first..first + body.outlines.len();
+            first = range.end;
+            let active = &frame.shapes_active[range.clone()];
+            if before.as_ref().is_some_and(|a| a[range] == *active) {
+                continue;
+            }
+            let color = |on: bool| rgb(if on { palette(b) } else { INACTIVE_COLOR });
             let mut strips = Vec::new();
             let mut strip_colors = Vec::new();
             let mut points = Vec::new();
@@ -192,11 +310,11 @@ impl RerunRecorder {
             for (outline, &on) in body.outlines.iter().zip(active) {
                 match outline {
                     Outline::Strip(p) => {
-                        strips.push(p.iter().map(world).collect::<Vec<_>>());
+                        strips.push(p.iter().copied().map(f32_point).collect::<Vec<_>>());
                         strip_colors.push(color(on));
                     }
                     Outline::Marker(p) => {
-                        points.push(world(p));
+                        points.push(f32_point(*p));
                         point_colors.push(color(on));
                     }
                 }
@@ -216,74 +334,15 @@ impl RerunRecorder {
                         .with_radii([marker]),
                 )?;
             }
-            let com = f32_point(pose.position);
-            self.log(
-                &format!("{path}/com"),
-                &Points2D::new([com])
-                    .with_colors([color(true)])
-                    .with_radii([marker]),
-            )?;
-            // A body-fixed spoke along the body's x axis: shows rotation of any body.
-            let tip = world(&[body.spoke_m, 0.0]);
-            self.log(
-                &format!("{path}/spoke"),
-                &LineStrips2D::new([[com, tip]]).with_colors([color(true)]),
-            )?;
         }
+        self.drawing.shapes_active = Some(frame.shapes_active.to_vec());
         Ok(())
     }
 
-    fn log_contacts(&self, frame: &Frame<'_>) -> Result<(), RecordError> {
-        let d = &self.drawing;
-        let mut origins = Vec::with_capacity(frame.contacts.len());
-        let mut vectors = Vec::with_capacity(frame.contacts.len());
-        for c in frame.contacts {
-            let [nx, ny] = c.normal;
-            // Λ = Λ_N n + Λ_T t with t = (n_y, -n_x) (physics.md §1), drawn as Λ/Δt.
-            let impulse = [
-                c.impulse_normal * nx + c.impulse_tangent * ny,
-                c.impulse_normal * ny - c.impulse_tangent * nx,
-            ];
-            let mut v = impulse.map(|x| x / d.dt * d.arrow_scale_m_per_n);
-            let length = v[0].hypot(v[1]);
-            if length > d.max_arrow_m {
-                v = v.map(|x| x * d.max_arrow_m / length);
-            }
-            if length > 0.0 {
-                origins.push(f32_point(c.point));
-                vectors.push(f32_point(v));
-            }
-        }
-        self.log(
-            "world/contacts/force",
-            &Arrows2D::from_vectors(vectors)
-                .with_origins(origins)
-                .with_colors([Color::from_rgb(214, 39, 40)]),
-        )
-    }
-
-    fn log_plots(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
-        let split = frame.q.len().min(2);
-        self.log(
-            PLOT_POSITION,
-            &Scalars::new(frame.q[..split].iter().copied()),
-        )?;
-        if frame.q.len() > split {
-            self.log(PLOT_ANGLE, &Scalars::new(frame.q[split..].iter().copied()))?;
-        }
-        self.log(PLOT_ENERGY, &Scalars::new(frame.energy.values()))?;
-        self.log(PLOT_TORQUE, &Scalars::single(frame.actuator_torque))?;
-        if !self.drawing.impulses.is_empty() {
-            for (component, entity) in [(0, PLOT_NORMAL_IMPULSE), (1, PLOT_TANGENT_IMPULSE)] {
-                self.drawing.impulses.fill(0.0);
-                for c in frame.contacts {
-                    let value = [c.impulse_normal, c.impulse_tangent][component];
-                    self.drawing.impulses[c.contact] = value;
-                }
-                self.log(entity, &Scalars::new(self.drawing.impulses.iter().copied()))?;
-            }
-        }
-        Ok(())
+    /// Sends the buffered columns (nothing if none is buffered).
+    fn flush(&mut self) -> Result<(), RecordError> {
+        let result = self.columns.send(&self.stream, &self.drawing);
+        result.map_err(|e| self.error(e))
     }
 }
 
@@ -291,39 +350,324 @@ impl RerunRecorder {
 const PLOT_POSITION: &str = "plots/position_m";
 const PLOT_ANGLE: &str = "plots/angle_rad";
 const PLOT_ENERGY: &str = "plots/energy_J";
+const PLOT_BALANCE: &str = "plots/energy_balance_error_J";
+const PLOT_IMPULSE: &str = "plots/impulse_Ns";
 const PLOT_NORMAL_IMPULSE: &str = "plots/impulse_Ns/normal";
 const PLOT_TANGENT_IMPULSE: &str = "plots/impulse_Ns/tangent";
 const PLOT_TORQUE: &str = "plots/actuator_torque_Nm";
 /// Entity of the event log.
 const EVENTS_ENTITY: &str = "events";
+/// Entity of the contact-force arrows.
+const FORCE_ENTITY: &str = "world/contacts/force";
+
+/// What a time series shows, per frame.
+#[derive(Clone, Debug, PartialEq)]
+enum Quantity {
+    /// `x`, `y`.
+    Position,
+    /// The angles `φ, θ_1, …` wrapped to (−π, π].
+    Angles,
+    /// These entries of [`EnergySample::values`].
+    Energies(Vec<usize>),
+    BalanceError,
+    /// Λ_N (`false`) or Λ_T (`true`) of every contact, 0 when not in the index set.
+    Impulses {
+        tangent: bool,
+    },
+    Torque,
+}
+
+/// One time-series entity and its buffered column (`names.len()` values per frame).
+struct Series {
+    entity: &'static str,
+    quantity: Quantity,
+    names: Vec<String>,
+    /// Palette index of the first series: series drawn in one panel differ in colour.
+    first_color: usize,
+    values: Vec<f64>,
+}
+
+impl Series {
+    /// Appends the values of `frame`.
+    fn push(&mut self, frame: &Frame<'_>) {
+        let start = self.values.len();
+        match &self.quantity {
+            Quantity::Position => self.values.extend(&frame.q[..self.names.len()]),
+            Quantity::Angles => {
+                let angles = &frame.q[frame.q.len() - self.names.len()..];
+                self.values.extend(angles.iter().map(|&a| wrap_angle(a)));
+            }
+            Quantity::Energies(which) => {
+                let e = frame.energy.values();
+                self.values.extend(which.iter().map(|&i| e[i]));
+            }
+            Quantity::BalanceError => self.values.push(frame.energy.balance_error),
+            Quantity::Impulses { tangent } => {
+                self.values.resize(start + self.names.len(), 0.0);
+                for c in frame.contacts {
+                    let value = if *tangent {
+                        c.impulse_tangent
+                    } else {
+                        c.impulse_normal
+                    };
+                    self.values[start + c.contact] = value;
+                }
+            }
+            Quantity::Torque => self.values.push(frame.actuator_torque),
+        }
+    }
+}
+
+/// The series a scene has: positions and angles of its coordinates, the energies it can
+/// have (spring energy with springs, actuator work and torque with a controller), the
+/// balance error, contact impulses when it has contacts.
+fn scene_series(info: &RecordingInfo) -> Vec<Series> {
+    let series = |entity, quantity, names: Vec<String>, first_color| Series {
+        entity,
+        quantity,
+        names,
+        first_color,
+        values: Vec::new(),
+    };
+    // Units as in every recording: the first two coordinates metres, the others radians.
+    let metres = (0..info.coordinates.len())
+        .take_while(|&i| CoordinateUnit::of(i) == CoordinateUnit::Metre)
+        .count();
+    let (positions, angles) = info.coordinates.split_at(metres);
+    let mut all = Vec::new();
+    if !positions.is_empty() {
+        all.push(series(
+            PLOT_POSITION,
+            Quantity::Position,
+            positions.to_vec(),
+            0,
+        ));
+    }
+    if !angles.is_empty() {
+        all.push(series(PLOT_ANGLE, Quantity::Angles, angles.to_vec(), 0));
+    }
+    let energies: Vec<usize> = EnergySample::NAMES
+        .iter()
+        .enumerate()
+        .filter(|&(_, &name)| match name {
+            "spring" => !info.springs.is_empty(),
+            "actuator_work" => info.actuated,
+            "balance_error" => false,
+            _ => true,
+        })
+        .map(|(i, _)| i)
+        .collect();
+    let names = energies
+        .iter()
+        .map(|&i| EnergySample::NAMES[i].replace('_', " "))
+        .collect();
+    all.push(series(PLOT_ENERGY, Quantity::Energies(energies), names, 0));
+    let balance = vec!["balance error".to_string()];
+    all.push(series(PLOT_BALANCE, Quantity::BalanceError, balance, 0));
+    let n = info.contacts.len();
+    if n > 0 {
+        let names = |component: &str| {
+            let names = info.contacts.iter().map(|c| format!("{component} {c}"));
+            names.collect::<Vec<_>>()
+        };
+        let normal = Quantity::Impulses { tangent: false };
+        all.push(series(PLOT_NORMAL_IMPULSE, normal, names("Λ_N"), 0));
+        let tangent = Quantity::Impulses { tangent: true };
+        all.push(series(PLOT_TANGENT_IMPULSE, tangent, names("Λ_T"), n));
+    }
+    if info.actuated {
+        let torque = vec!["actuator torque".to_string()];
+        all.push(series(PLOT_TORQUE, Quantity::Torque, torque, 0));
+    }
+    all
+}
+
+/// Everything that changes every frame, buffered in columns until sent.
+struct Columns {
+    times: Vec<f64>,
+    steps: Vec<i64>,
+    series: Vec<Series>,
+    /// Per body: position (z = 0) and rotation about z.
+    translations: Vec<Vec<[f32; 3]>>,
+    rotations: Vec<Vec<Quaternion>>,
+    com: Vec<[f32; 2]>,
+    /// Spring segments, `springs` per frame.
+    springs: Vec<[[f32; 2]; 2]>,
+    spring_count: usize,
+    /// Contact-force arrows and how many each frame has.
+    arrow_origins: Vec<[f32; 2]>,
+    arrow_vectors: Vec<[f32; 2]>,
+    arrows_per_frame: Vec<usize>,
+}
+
+impl Columns {
+    fn new(info: &RecordingInfo) -> Self {
+        let mut series = scene_series(info);
+        for s in &mut series {
+            s.values.reserve(CHUNK_FRAMES * s.names.len());
+        }
+        let bodies = info.bodies.len();
+        Self {
+            times: Vec::with_capacity(CHUNK_FRAMES),
+            steps: Vec::with_capacity(CHUNK_FRAMES),
+            series,
+            translations: vec![Vec::with_capacity(CHUNK_FRAMES); bodies],
+            rotations: vec![Vec::with_capacity(CHUNK_FRAMES); bodies],
+            com: Vec::with_capacity(CHUNK_FRAMES),
+            springs: Vec::with_capacity(CHUNK_FRAMES * info.springs.len()),
+            spring_count: info.springs.len(),
+            arrow_origins: Vec::new(),
+            arrow_vectors: Vec::new(),
+            arrows_per_frame: Vec::with_capacity(CHUNK_FRAMES),
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.times.len()
+    }
+
+    /// Appends `frame`.
+    fn push(&mut self, frame: &Frame<'_>, drawing: &Drawing) {
+        self.times.push(frame.t.max(0.0));
+        self.steps
+            .push(i64::try_from(frame.step).unwrap_or(i64::MAX));
+        for s in &mut self.series {
+            s.push(frame);
+        }
+        for (b, pose) in frame.bodies.iter().enumerate() {
+            let [x, y] = f32_point(pose.position);
+            self.translations[b].push([x, y, 0.0]);
+            let (sin, cos) = (0.5 * pose.angle).sin_cos();
+            self.rotations[b].push(Quaternion::from_xyzw([0.0, 0.0, sin as f32, cos as f32]));
+        }
+        self.com.push(f32_point(frame.com));
+        self.springs.extend(
+            frame
+                .springs
+                .iter()
+                .map(|(a, b)| [f32_point(*a), f32_point(*b)]),
+        );
+        let before = self.arrow_origins.len();
+        for c in frame.contacts {
+            if let Some(v) = drawing.force_arrow(c.normal, c.impulse_normal, c.impulse_tangent) {
+                self.arrow_origins.push(f32_point(c.point));
+                self.arrow_vectors.push(f32_point(v));
+            }
+        }
+        self.arrows_per_frame
+            .push(self.arrow_origins.len() - before);
+    }
+
+    /// Sends every buffered column as one chunk per entity and empties the buffers.
+    fn send(&mut self, stream: &RecordingStream, drawing: &Drawing) -> Result<(), String> {
+        let rows = self.len();
+        if rows == 0 {
+            return Ok(());
+        }
+        let time = TimeColumn::new_duration_secs(TIME_TIMELINE, self.times.iter().copied());
+        let step = TimeColumn::new_sequence(STEP_TIMELINE, self.steps.iter().copied());
+        let send = |entity: &str,
+                    columns: Result<
+            Vec<SerializedComponentColumn>,
+            rerun::SerializationError,
+        >| {
+            let columns = columns.map_err(|e| e.to_string())?;
+            stream
+                .send_columns(entity, [time.clone(), step.clone()], columns)
+                .map_err(|e| e.to_string())
+        };
+        for s in &self.series {
+            let scalars = Scalars::update_fields().with_scalars(s.values.iter().copied());
+            let lengths = std::iter::repeat_n(s.names.len(), rows);
+            send(s.entity, scalars.columns(lengths).map(Iterator::collect))?;
+        }
+        for (b, body) in drawing.bodies.iter().enumerate() {
+            let transform = Transform3D::update_fields()
+                .with_many_translation(self.translations[b].iter().copied())
+                .with_many_quaternion(self.rotations[b].iter().copied());
+            send(
+                &body.entity,
+                transform.columns_of_unit_batches().map(Iterator::collect),
+            )?;
+        }
+        let com = Points2D::update_fields().with_positions(self.com.iter().copied());
+        send(
+            "world/com",
+            com.columns_of_unit_batches().map(Iterator::collect),
+        )?;
+        if self.spring_count > 0 {
+            let springs = LineStrips2D::update_fields().with_strips(self.springs.iter().copied());
+            let lengths = std::iter::repeat_n(self.spring_count, rows);
+            send(
+                "world/springs",
+                springs.columns(lengths).map(Iterator::collect),
+            )?;
+        }
+        if !drawing.contacts_empty {
+            let arrows = Arrows2D::update_fields()
+                .with_vectors(self.arrow_vectors.iter().copied())
+                .with_origins(self.arrow_origins.iter().copied());
+            let lengths = self.arrows_per_frame.iter().copied();
+            send(FORCE_ENTITY, arrows.columns(lengths).map(Iterator::collect))?;
+        }
+        self.times.clear();
+        self.steps.clear();
+        for s in &mut self.series {
+            s.values.clear();
+        }
+        self.translations.iter_mut().for_each(Vec::clear);
+        self.rotations.iter_mut().for_each(Vec::clear);
+        self.com.clear();
+        self.springs.clear();
+        self.arrow_origins.clear();
+        self.arrow_vectors.clear();
+        self.arrows_per_frame.clear();
+        Ok(())
+    }
+}
 
 /// Application id and blueprint shared by file and viewer recordings.
 fn builder(info: &RecordingInfo) -> RecordingStreamBuilder {
     RecordingStreamBuilder::new("hopsim")
         .recording_name(info.scene.clone())
         .enabled(true)
-        .with_blueprint(blueprint())
+        .with_blueprint(blueprint(&scene_series(info)))
 }
 
-/// The robot on the left, time series and the event log on the right, on the simulation
-/// time (the viewer would otherwise pick the step timeline).
-fn blueprint() -> Blueprint {
-    let plots: [ContainerLike; 5] = [
-        ("position", PLOT_POSITION),
-        ("angles", PLOT_ANGLE),
-        ("energy", PLOT_ENERGY),
-        ("contact impulses", "plots/impulse_Ns"),
-        ("actuator torque", PLOT_TORQUE),
-    ]
-    .map(|(name, origin)| TimeSeriesView::new(name).with_origin(origin).into());
-    let right = Vertical::new(
-        plots
-            .into_iter()
-            .chain([TextLogView::new("events").with_origin(EVENTS_ENTITY).into()]),
-    );
+/// Title of the panel of a time-series entity, with its unit.
+fn panel_title(entity: &str) -> &'static str {
+    match entity {
+        PLOT_POSITION => "position, m",
+        PLOT_ANGLE => "angles wrapped to (−π, π], rad",
+        PLOT_ENERGY => "energy, J",
+        PLOT_BALANCE => "energy balance error, J",
+        PLOT_NORMAL_IMPULSE | PLOT_TANGENT_IMPULSE => "contact impulses Λ_N, Λ_T, N s",
+        _ => "actuator torque, N m",
+    }
+}
+
+/// The robot on the left; on the right one panel per time series the scene has (both
+/// impulse components in one) and the event log; on the simulation time (the viewer
+/// would otherwise pick the step timeline).
+fn blueprint(series: &[Series]) -> Blueprint {
+    let mut panels: Vec<ContainerLike> = Vec::new();
+    for s in series {
+        let origin = match s.entity {
+            PLOT_TANGENT_IMPULSE => continue,
+            PLOT_NORMAL_IMPULSE => PLOT_IMPULSE,
+            entity => entity,
+        };
+        panels.push(
+            TimeSeriesView::new(panel_title(s.entity))
+                .with_origin(origin)
+                .into(),
+        );
+    }
+    panels.push(TextLogView::new("events").with_origin(EVENTS_ENTITY).into());
     let robot = Spatial2DView::new("robot")
         .with_origin("/")
         .with_contents(["/world/**"]);
+    let right = Vertical::new(panels);
     Blueprint::new(Horizontal::new([robot.into(), right.into()]).with_column_shares([2.0_f32, 1.0]))
         .with_time_panel(TimePanel::new().with_timeline(TIME_TIMELINE))
 }
@@ -352,22 +696,21 @@ fn rgb(c: [u8; 3]) -> Color {
     Color::from_rgb(c[0], c[1], c[2])
 }
 
-fn body_color(body: usize) -> [u8; 3] {
-    BODY_COLORS[body % BODY_COLORS.len()]
-}
-
 /// What is precomputed for drawing, and the little state drawing keeps between frames.
 struct Drawing {
     bodies: Vec<BodyDrawing>,
-    terrain: Terrain,
-    /// Abscissae covered by the logged terrain, m (empty before the first frame).
-    terrain_range: (f64, f64),
-    /// Size of the robot: the largest reach of a shape from its body's CoM, m.
+    terrain_shape: hopsim_model::Terrain,
+    terrain: TerrainCover,
+    /// Size of the robot, m.
     robot_size_m: f64,
     /// Contact force arrow scale, m/N.
     arrow_scale_m_per_n: f64,
     max_arrow_m: f64,
     dt: f64,
+    /// The scene has no contacts (no force arrows).
+    contacts_empty: bool,
+    /// The shapes' activity when the outlines were last logged (none before).
+    shapes_active: Option<Vec<bool>>,
     /// The growing piece of the CoM trail and its number.
     trail: Vec<[f32; 2]>,
     trail_piece: usize,
@@ -375,12 +718,10 @@ struct Drawing {
     last_com: Option<[f32; 2]>,
     /// Event markers on view, with the simulation time at which each is cleared.
     markers: Vec<(String, f64)>,
-    /// Per-contact impulse buffer for the time series.
-    impulses: Vec<f64>,
 }
 
 struct BodyDrawing {
-    /// `world/bodies/<name>`.
+    /// `world/bodies/<name>`: the body's frame.
     entity: String,
     outlines: Vec<Outline>,
     /// Length of the body-fixed spoke, m.
@@ -389,28 +730,19 @@ struct BodyDrawing {
 
 impl Drawing {
     fn new(info: &RecordingInfo) -> Self {
-        let bodies: Vec<BodyDrawing> = info
+        let shapes = RobotShapes::of(info);
+        let bodies = info
             .bodies
             .iter()
-            .map(|b| {
-                let outlines: Vec<Outline> = b.shapes.iter().map(|(_, s)| Outline::of(s)).collect();
-                let reach = outlines.iter().map(Outline::reach).fold(0.0, f64::max);
-                BodyDrawing {
-                    entity: format!("world/bodies/{}", entity_part(&b.name)),
-                    outlines,
-                    spoke_m: reach,
-                }
+            .zip(shapes.outlines)
+            .zip(shapes.spokes_m)
+            .map(|((b, outlines), spoke_m)| BodyDrawing {
+                entity: format!("world/bodies/{}", entity_part(&b.name)),
+                outlines,
+                spoke_m,
             })
             .collect();
-        let reach = bodies.iter().map(|b| b.spoke_m).fold(0.0, f64::max);
-        let robot_size_m = if reach > 0.0 { reach } else { 0.1 };
-        let mut bodies = bodies;
-        for body in &mut bodies {
-            // A body without shapes (Robbit's flywheel) still gets a visible spoke.
-            if body.spoke_m <= 0.0 {
-                body.spoke_m = 0.5 * robot_size_m;
-            }
-        }
+        let robot_size_m = shapes.size_m;
         let weight = info.weight_newtons;
         let arrow_scale_m_per_n = if weight.is_finite() && weight > 0.0 {
             robot_size_m / weight
@@ -419,17 +751,18 @@ impl Drawing {
         };
         Self {
             bodies,
-            terrain: info.terrain.clone(),
-            terrain_range: (f64::INFINITY, f64::NEG_INFINITY),
+            terrain_shape: info.terrain.clone(),
+            terrain: TerrainCover::new(robot_size_m),
             robot_size_m,
             arrow_scale_m_per_n,
             max_arrow_m: MAX_ARROW_ROBOT_SIZES * robot_size_m,
             dt: if info.dt > 0.0 { info.dt } else { 1.0 },
+            contacts_empty: info.contacts.is_empty(),
+            shapes_active: None,
             trail: Vec::new(),
             trail_piece: 0,
             last_com: None,
             markers: Vec::new(),
-            impulses: vec![0.0; info.contacts.len()],
         }
     }
 
@@ -437,28 +770,25 @@ impl Drawing {
         (0.02 * self.robot_size_m) as f32
     }
 
-    /// Widens the terrain range so that it reaches well beyond `x` on both sides; true if
-    /// it changed (and must be logged again). Grows geometrically, so it is redrawn rarely.
-    fn cover(&mut self, x: f64) -> bool {
-        if !x.is_finite() {
-            return false;
+    /// The arrow of a contact's mean force `(Λ_N n + Λ_T t)/Δt` with `t = (n_y, −n_x)`
+    /// (physics.md §1), scaled and clipped; `None` for a contact without force.
+    fn force_arrow(
+        &self,
+        normal: Point,
+        normal_impulse: f64,
+        tangent_impulse: f64,
+    ) -> Option<Point> {
+        let [nx, ny] = normal;
+        let impulse = [
+            normal_impulse * nx + tangent_impulse * ny,
+            normal_impulse * ny - tangent_impulse * nx,
+        ];
+        let mut v = impulse.map(|x| x / self.dt * self.arrow_scale_m_per_n);
+        let length = v[0].hypot(v[1]);
+        if length > self.max_arrow_m {
+            v = v.map(|x| x * self.max_arrow_m / length);
         }
-        // A few robot sizes: the 2D view fits what it shows, so a long terrain line would
-        // shrink the robot to a dot.
-        let margin = (3.0 * self.robot_size_m).max(0.5);
-        let (lo, hi) = self.terrain_range;
-        if lo.is_finite() && x - lo >= 0.5 * margin && hi - x >= 0.5 * margin {
-            return false;
-        }
-        let width = if lo.is_finite() { hi - lo } else { 0.0 };
-        self.terrain_range = if !lo.is_finite() {
-            (x - margin, x + margin)
-        } else if x - lo < 0.5 * margin {
-            (x - margin.max(width), hi)
-        } else {
-            (lo, x + margin.max(width))
-        };
-        true
+        (length > 0.0).then_some(v)
     }
 
     /// Adds the CoM to the trail when it moved far enough; true if it did. A full piece
@@ -513,37 +843,36 @@ fn event_color(kind: &EventKind) -> Color {
 impl Recorder for RerunRecorder {
     fn frame(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
         self.layout.check(frame).map_err(|m| self.error(m))?;
+        if let Some(live) = &mut self.live {
+            live.wait_for(frame.t);
+        }
         self.set_time(frame.t, frame.step);
-        if self.drawing.cover(frame.com[0]) {
+        if self.drawing.terrain.cover(frame.com[0]) {
             self.log_terrain()?;
         }
-        self.log_bodies(frame)?;
+        self.log_outlines(frame)?;
         self.clear_expired_markers(frame.t)?;
-        let springs = frame
-            .springs
-            .iter()
-            .map(|(a, b)| [f32_point(*a), f32_point(*b)]);
-        if !frame.springs.is_empty() {
-            self.log(
-                "world/springs",
-                &LineStrips2D::new(springs).with_colors([Color::from_rgb(120, 120, 40)]),
-            )?;
-        }
-        let radius = self.drawing.marker_radius();
-        self.log(
-            "world/com",
-            &Points2D::new([f32_point(frame.com)])
-                .with_radii([1.5 * radius])
-                .with_colors([Color::from_rgb(0, 0, 0)]),
-        )?;
         if self.drawing.extend_trail(frame.com) {
             let trail = LineStrips2D::new([self.drawing.trail.iter().copied()])
                 .with_colors([Color::from_rgb(160, 160, 160)]);
             let piece = self.drawing.trail_piece;
             self.log(&format!("world/com/trail/{piece}"), &trail)?;
         }
-        self.log_contacts(frame)?;
-        self.log_plots(frame)
+        self.columns.push(frame, &self.drawing);
+        let due = match &mut self.live {
+            Some(live) => {
+                let due = live.last_flush.elapsed() >= LIVE_FLUSH_INTERVAL;
+                if due {
+                    live.last_flush = Instant::now();
+                }
+                due
+            }
+            None => self.columns.len() >= CHUNK_FRAMES,
+        };
+        if due {
+            self.flush()?;
+        }
+        Ok(())
     }
 
     fn event(&mut self, event: &Event) -> Result<(), RecordError> {
@@ -579,6 +908,30 @@ impl Recorder for RerunRecorder {
     }
 
     fn finish(self: Box<Self>) -> Result<(), RecordError> {
+        self.close()?.map_or(Ok(()), |output| Ok(output.commit()?))
+    }
+
+    fn finish_partial(self: Box<Self>, stop: &Stop) -> Result<Vec<PathBuf>, RecordError> {
+        self.set_time(stop.t, stop.step);
+        let text = stop.to_string();
+        self.log(
+            EVENTS_ENTITY,
+            &TextLog::new(text.clone()).with_level(rerun::TextLogLevel::ERROR),
+        )?;
+        self.stream
+            .send_property("stop", &TextDocument::new(text))
+            .map_err(|e| self.error(e))?;
+        match self.close()? {
+            Some(output) => Ok(vec![output.commit_partial()?]),
+            None => Ok(Vec::new()),
+        }
+    }
+}
+
+impl RerunRecorder {
+    /// Sends what is buffered and closes the stream; the file to commit, if any.
+    fn close(mut self: Box<Self>) -> Result<Option<AtomicPath>, RecordError> {
+        self.flush()?;
         let Self {
             stream,
             output,
@@ -592,21 +945,22 @@ impl Recorder for RerunRecorder {
                 // Closes the file sink, which writes the RRD footer.
                 stream.disconnect();
                 drop(stream);
-                output.commit()?;
+                Ok(Some(output))
             }
             None => {
                 stream
                     .flush_with_timeout(Duration::from_secs(30))
                     .map_err(|e| err(&e))?;
+                Ok(None)
             }
         }
-        Ok(())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hopsim_model::Terrain;
 
     #[test]
     fn a_missing_viewer_says_how_to_install_it() {
@@ -638,6 +992,7 @@ mod tests {
             terrain: Terrain::flat(0.0),
             dt: 1e-3,
             weight_newtons: 0.0,
+            actuated: false,
         }
     }
 
@@ -687,17 +1042,93 @@ mod tests {
     }
 
     #[test]
-    fn terrain_coverage_grows_ahead_of_the_robot_and_rarely() {
-        let mut drawing = Drawing::new(&empty_info());
-        assert!(drawing.cover(0.0));
-        let (lo, hi) = drawing.terrain_range;
-        assert!(lo <= -0.5 && hi >= 0.5);
-        assert!(!drawing.cover(0.1), "well inside: no redraw");
-        let redraws = (0..10_000)
-            .filter(|&k| drawing.cover(k as f64 * 1e-2))
-            .count();
-        assert!(redraws <= 10, "{redraws} redraws over 100 m");
-        assert!(drawing.terrain_range.1 >= 100.0 && drawing.terrain_range.0 <= -0.5);
-        assert_eq!(drawing.arrow_scale_m_per_n, FALLBACK_ARROW_SCALE_M_PER_N);
+    fn series_and_panels_follow_what_the_scene_has() {
+        let names = |info: &RecordingInfo| -> Vec<(&'static str, Vec<String>)> {
+            scene_series(info)
+                .into_iter()
+                .map(|s| (s.entity, s.names))
+                .collect()
+        };
+        // A passive point without contacts or springs: no impulse or torque panel, no
+        // spring energy or actuator work.
+        let mut info = empty_info();
+        info.coordinates = ["x", "y"].map(String::from).to_vec();
+        let passive = names(&info);
+        assert_eq!(
+            passive,
+            [
+                (PLOT_POSITION, vec!["x".to_string(), "y".to_string()]),
+                (
+                    PLOT_ENERGY,
+                    ["kinetic", "potential", "dissipated"]
+                        .map(String::from)
+                        .to_vec()
+                ),
+                (PLOT_BALANCE, vec!["balance error".to_string()]),
+            ]
+        );
+        info.coordinates.push("phi".into());
+        info.contacts = vec!["disc/ground".into()];
+        info.springs = vec!["spring".into()];
+        info.actuated = true;
+        let entities: Vec<_> = names(&info).into_iter().map(|(e, _)| e).collect();
+        assert_eq!(
+            entities,
+            [
+                PLOT_POSITION,
+                PLOT_ANGLE,
+                PLOT_ENERGY,
+                PLOT_BALANCE,
+                PLOT_NORMAL_IMPULSE,
+                PLOT_TANGENT_IMPULSE,
+                PLOT_TORQUE
+            ]
+        );
+        // Series sharing a panel get different colours.
+        let series = scene_series(&info);
+        let impulse_colors: Vec<_> = series
+            .iter()
+            .filter(|s| s.entity.starts_with(PLOT_IMPULSE))
+            .map(|s| palette(s.first_color))
+            .collect();
+        assert_ne!(impulse_colors[0], impulse_colors[1]);
+        assert_ne!(palette(0), palette(1), "x and y differ");
+        assert_eq!(
+            Drawing::new(&empty_info()).arrow_scale_m_per_n,
+            FALLBACK_ARROW_SCALE_M_PER_N
+        );
+    }
+
+    #[test]
+    fn speeds_are_positive_factors_or_max() {
+        assert_eq!("max".parse::<Pace>(), Ok(Pace::Unpaced));
+        assert_eq!("0.5".parse::<Pace>(), Ok(Pace::Speed(0.5)));
+        assert_eq!(Pace::default(), Pace::Speed(1.0));
+        for bad in ["0", "-1", "inf", "NaN", "fast"] {
+            let e = bad.parse::<Pace>().unwrap_err();
+            assert!(e.contains("positive factor") && e.contains("max"), "{e}");
+        }
+    }
+
+    /// A live stream at speed 4 takes a quarter of the simulated time, however fast the
+    /// frames come; unpaced it does not wait.
+    #[test]
+    fn a_paced_stream_waits_for_the_wall_clock() {
+        let mut live = Live {
+            pace: Pace::Speed(4.0),
+            start: None,
+            last_flush: Instant::now(),
+        };
+        let started = Instant::now();
+        for k in 0..=20 {
+            live.wait_for(1.0 + 0.01 * k as f64);
+        }
+        let elapsed = started.elapsed().as_secs_f64();
+        // 0.2 s simulated at speed 4: 0.05 s, plus sleeping overshoot (a few ms).
+        assert!((0.05..0.2).contains(&elapsed), "{elapsed} s");
+        live.pace = Pace::Unpaced;
+        let started = Instant::now();
+        live.wait_for(1e6);
+        assert!(started.elapsed() < Duration::from_millis(10));
     }
 }

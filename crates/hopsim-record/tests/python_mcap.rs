@@ -13,7 +13,7 @@ use std::process::Command;
 const MISSING_PACKAGE: i32 = 77;
 
 const SCRIPT: &str = r#"
-import json, sys
+import json, os, sys
 try:
     from mcap.reader import make_reader
     import jsonschema
@@ -21,7 +21,7 @@ except ImportError as e:
     print(e, file=sys.stderr)
     sys.exit(77)
 
-counts, states, impulses, events = {}, [], [], []
+counts, states, impulses, events, poses, scenes = {}, [], [], [], [], []
 with open(sys.argv[1], "rb") as f:
     reader = make_reader(f)
     for schema, channel, message in reader.iter_messages():
@@ -32,9 +32,28 @@ with open(sys.argv[1], "rb") as f:
         validator.check_schema(schema_doc)
         data = json.loads(message.data)
         validator(schema_doc).validate(data)
-        assert message.log_time == round(data["t_s"] * 1e9), (message.log_time, data["t_s"])
+        assert "t_s" in data or channel.topic.startswith("/foxglove/"), channel.topic
+        if "t_s" in data:
+            assert message.log_time == round(data["t_s"] * 1e9), (message.log_time, data["t_s"])
         assert message.publish_time == message.log_time
         counts[channel.topic] = counts.get(channel.topic, 0) + 1
+        if channel.topic.startswith("/foxglove/"):
+            # Foxglove's own schema, as vendored, with {sec, nsec} stamps at the log time.
+            name = schema.name.removeprefix("foxglove.")
+            with open(os.path.join(sys.argv[2], name + ".json")) as vendored:
+                assert json.load(vendored) == schema_doc, schema.name
+            stamped = data.get("transforms", data.get("entities"))
+            for item in stamped:
+                stamp = item["timestamp"]
+                assert stamp["sec"] * 10**9 + stamp["nsec"] == message.log_time
+        if channel.topic == "/foxglove/transforms":
+            poses.append([data["transforms"][1]["child_frame_id"],
+                          data["transforms"][1]["translation"],
+                          data["transforms"][1]["rotation"]])
+        elif channel.topic == "/foxglove/scene":
+            scenes.append({e["id"]: (e["frame_id"], [l["color"]["r"] for l in e["lines"]],
+                                     len(e["spheres"]))
+                           for e in data["entities"]})
         if channel.topic == "/hopsim/state":
             states.append([data["step"], data["t_s"], data["q"]["x"], data["q"]["phi"],
                            data["u"]["psi"], data["bodies"]["flywheel"]["angle_rad"]])
@@ -48,7 +67,8 @@ with open(sys.argv[1], "rb") as f:
                    for a in reader.iter_attachments()]
     metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
 print(json.dumps({"counts": counts, "states": states, "impulses": impulses,
-                  "events": events, "attachments": attachments, "metadata": metadata}))
+                  "events": events, "attachments": attachments, "metadata": metadata,
+                  "poses": poses, "scenes": scenes}))
 "#;
 
 #[test]
@@ -62,7 +82,9 @@ fn python_mcap_reader_decodes_every_message() {
 
     let script = dir.path().join("read.py");
     std::fs::write(&script, SCRIPT).unwrap();
-    let Some(output) = run(Command::new("python3").arg(&script).arg(&path)) else {
+    let schemas = concat!(env!("CARGO_MANIFEST_DIR"), "/schemas/foxglove");
+    let python = run(Command::new("python3").arg(&script).arg(&path).arg(schemas));
+    let Some(output) = python else {
         return skip_or_fail("python3 is not installed");
     };
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -104,6 +126,42 @@ fn python_mcap_reader_decodes_every_message() {
             "applied_impulse"
         ]
     );
+    // Foxglove: one transform message per frame placing the flywheel's frame at its pose
+    // in the x-z plane, rotated by -angle about y (in single precision, as written); the
+    // scene sent at the first frame and again at every shape switch (the cane alternates),
+    // with the terrain in the world.
+    assert_eq!(result["counts"]["/foxglove/transforms"], n);
+    for (pose, f) in result["poses"].as_array().unwrap().iter().zip(&frames) {
+        let [x, y] = f.bodies[1].position.map(|v| v as f32);
+        let (s, c) = (0.5 * f.bodies[1].angle).sin_cos();
+        let (s, c) = (s as f32, c as f32);
+        assert_eq!(pose[0], "body/flywheel");
+        // Python reads the shortest single-precision text as a double: back to single.
+        let read = |v: &Value, key: &str| v[key].as_f64().unwrap() as f32;
+        let (t, r) = (&pose[1], &pose[2]);
+        assert_eq!([read(t, "x"), read(t, "y"), read(t, "z")], [x, 0.0, y]);
+        assert_eq!(
+            [read(r, "x"), read(r, "y"), read(r, "z"), read(r, "w")],
+            [0.0, -s, 0.0, c]
+        );
+    }
+    let scenes = result["scenes"].as_array().unwrap();
+    let switches = frames
+        .windows(2)
+        .filter(|w| w[0].shapes_active != w[1].shapes_active)
+        .count();
+    assert!(
+        scenes.len() > switches && scenes.len() <= switches + 1 + 10,
+        "{} scene updates for {switches} switches",
+        scenes.len()
+    );
+    for scene in scenes {
+        assert_eq!(scene["terrain"][0], "world");
+        assert_eq!(scene["body/disc"][0], "body/disc");
+        // The disc: its spoke and rim; the cane tip a sphere beside the CoM marker.
+        assert_eq!(scene["body/disc"][1].as_array().unwrap().len(), 2);
+        assert_eq!(scene["body/disc"][2], 2);
+    }
     assert_eq!(
         result["attachments"],
         serde_json::json!([["robbit-test.toml", "application/toml", SCENE_TEXT]])

@@ -73,4 +73,19 @@ fn rrd_file_is_complete_and_loads_in_the_rerun_cli() {
             "{entity} missing from:\n{listing}"
         );
     }
+    // Columnar logging: the 120 frames of a time series or a body's transform are one
+    // chunk (beside a static one with the series' names and colours, or the marker's
+    // size), not one per frame.
+    let stats = rerun(&["rrd", "stats"], &path).unwrap();
+    let stats = log(&stats);
+    for (entity, chunks) in [
+        ("/plots/energy_J", 2),
+        ("/world/bodies/disc", 1),
+        ("/world/com", 2),
+    ] {
+        assert!(
+            stats.contains(&format!("{entity}: {chunks}\n")),
+            "{entity} not in {chunks} chunks:\n{stats}"
+        );
+    }
 }

@@ -1,11 +1,13 @@
 //! Hands the run to recorders: frames at the recording rate, every event exactly.
 
 use crate::{Observer, RunError, StepView};
+use hopsim_control::ControllerConfig;
 use hopsim_record::{
     BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecorderSet,
-    RecordingInfo,
+    RecordingInfo, Stop,
 };
 use hopsim_scene::Scene;
+use std::path::PathBuf;
 
 /// The static description of a scene for recorders.
 pub fn recording_info(scene: &Scene) -> RecordingInfo {
@@ -37,6 +39,7 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
         terrain: model.terrain.clone(),
         dt: scene.settings.dt,
         weight_newtons: model.total_mass() * model.gravity.norm(),
+        actuated: !matches!(scene.controller, ControllerConfig::Passive),
     }
 }
 
@@ -53,6 +56,8 @@ pub struct RecordingObserver {
     limit_loaded: Vec<bool>,
     limit_loaded_now: Vec<bool>,
     limit_events: Vec<Event>,
+    /// The last step shown to the observer and its time, s.
+    last_step: (u64, f64),
 }
 
 impl RecordingObserver {
@@ -75,6 +80,7 @@ impl RecordingObserver {
             limit_loaded: vec![false; scene.model.limits.len()],
             limit_loaded_now: vec![false; scene.model.limits.len()],
             limit_events: Vec::new(),
+            last_step: (0, 0.0),
         }
     }
 
@@ -87,10 +93,24 @@ impl RecordingObserver {
     pub fn finish(self) -> Result<(), RunError> {
         Ok(self.recorders.finish()?)
     }
+
+    /// Keeps what was recorded of a run that stopped early because of `reason`, under the
+    /// outputs' partial names, saying why and after which step (the last one shown to this
+    /// observer); returns the files kept.
+    pub fn finish_partial(self, reason: &RunError) -> Result<Vec<PathBuf>, RunError> {
+        let (step, t) = self.last_step;
+        let stop = Stop {
+            reason: reason.to_string(),
+            step,
+            t,
+        };
+        Ok(self.recorders.finish_partial(&stop)?)
+    }
 }
 
 impl Observer for RecordingObserver {
     fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.last_step = (view.record.step, view.state.t);
         if self.recorders.is_empty() {
             return Ok(());
         }
@@ -109,6 +129,7 @@ impl Observer for RecordingObserver {
     }
 
     fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.last_step = (view.record.step, view.state.t);
         if self.recorders.is_empty() {
             return Ok(());
         }

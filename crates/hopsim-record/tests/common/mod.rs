@@ -47,6 +47,7 @@ pub fn info() -> RecordingInfo {
         terrain: Terrain::step(1.0, 0.05),
         dt: 2e-4,
         weight_newtons: 1.405 * 9.81,
+        actuated: true,
     }
 }
 
