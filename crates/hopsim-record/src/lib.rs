@@ -22,7 +22,8 @@ pub use compare::{
 };
 pub use csv::{frame_columns, frame_values, CsvRecorder};
 pub use frame::{
-    BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecordingInfo,
+    recorded_time, BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame,
+    RecordingInfo, TIME_DECIMALS,
 };
 pub use hopsim_io::{write_atomically, AtomicFile};
 pub use mcap_format::{CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC};

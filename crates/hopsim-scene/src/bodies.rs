@@ -1,4 +1,4 @@
-//! `[[bodies]]`, `[[shapes]]` and `[[springs]]`: the multibody model (physics.md §1).
+//! `[[bodies]]`, `[[shapes]]` and `[[springs]]`: the multibody model (docs/physics.md §1).
 
 use crate::environment::read_material;
 use crate::error::{number, short_list, suggestion, SceneError};
@@ -407,7 +407,7 @@ impl Coordinates {
 }
 
 /// A revolute or prismatic joint on `parent` (`None`: the world, a pinned base) at `pivot`,
-/// with its coordinate's name, damping, spring and limits (physics.md §7).
+/// with its coordinate's name, damping, spring and limits (docs/physics.md §7).
 fn read_joint(
     t: &Table<'_>,
     name: &str,

@@ -6,7 +6,8 @@
 //! [`Scene`]: a [`hopsim_model::Model`], an initial [`hopsim_step::State`], a
 //! [`hopsim_control::ControllerConfig`] and the run [`Settings`]. Every error says where
 //! (file:line:column, or the `--set` argument), which key, what was found and what was
-//! expected; unknown keys get a "did you mean".
+//! expected; unknown keys get a "did you mean". [`axis_label`] names a numeric key in words
+//! with its unit, for figures.
 
 mod bodies;
 mod controller;
@@ -15,6 +16,7 @@ mod error;
 mod overrides;
 mod reader;
 mod scene;
+mod schema;
 mod settings;
 mod tree;
 
@@ -22,6 +24,7 @@ pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
+pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
 pub use settings::{Meta, Settings, MIN_DT};
 pub use tree::MAX_DEPTH;
