@@ -158,6 +158,10 @@ pub struct Series {
     /// Dot radius or line width in design units (pixels of a 960-pixel-wide figure,
     /// scaled by [`SCALE`]).
     pub size: u32,
+    /// Whether the series' points set the automatic y range (false: points outside the
+    /// range of the other series are drawn at the edge, e.g. results that did not
+    /// converge).
+    pub sets_range: bool,
 }
 
 impl Series {
@@ -169,6 +173,7 @@ impl Series {
             style: SeriesStyle::Line,
             color: None,
             size: 2,
+            sets_range: true,
         }
     }
 
@@ -180,6 +185,7 @@ impl Series {
             style: SeriesStyle::Points,
             color: None,
             size: 3,
+            sets_range: true,
         }
     }
 
@@ -198,6 +204,12 @@ impl Series {
     /// Sets the dot radius / line width (design units).
     pub fn size(mut self, size: u32) -> Self {
         self.size = size;
+        self
+    }
+
+    /// Leaves the series out of the automatic y range ([`Series::sets_range`]).
+    pub fn without_range(mut self) -> Self {
+        self.sets_range = false;
         self
     }
 
@@ -283,14 +295,13 @@ const FENCE_IQRS: f64 = 3.0;
 /// (more are data, and the range covers them).
 const MAX_OUTLIER_FRACTION: f64 = 0.05;
 
-/// The range of the finite `values` that a few far outliers do not stretch: the range of
-/// the values inside Tukey's outer fences (quartiles ∓ [`FENCE_IQRS`] interquartile
-/// ranges) when at most [`MAX_OUTLIER_FRACTION`] of them lie outside; else the full range.
-/// `None` without finite values.
-pub fn robust_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+/// Tukey's outer fences of the finite `values`: the quartiles ∓ [`FENCE_IQRS`]
+/// interquartile ranges (None without finite values; the full range if the quartiles
+/// coincide).
+fn tukey_fences(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let mut v: Vec<f64> = values.filter(|v| v.is_finite()).collect();
     v.sort_by(f64::total_cmp);
-    let full = Some((*v.first()?, *v.last()?));
+    let full = (*v.first()?, *v.last()?);
     let quantile = |q: f64| {
         let pos = q * (v.len() - 1) as f64;
         let (i, f) = (pos.floor() as usize, pos.fract());
@@ -298,16 +309,51 @@ pub fn robust_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     };
     let (q1, q3) = (quantile(0.25), quantile(0.75));
     let iqr = q3 - q1;
-    if iqr <= 0.0 {
-        return full;
+    Some(match iqr > 0.0 {
+        true => (q1 - FENCE_IQRS * iqr, q3 + FENCE_IQRS * iqr),
+        false => full,
+    })
+}
+
+/// The range of the finite `values` that a few far outliers do not stretch. Outliers lie
+/// outside Tukey's outer fences ([`FENCE_IQRS`] interquartile ranges beyond the quartiles)
+/// and farther from the values inside them than those values span; if more than
+/// [`MAX_OUTLIER_FRACTION`] of the values lie outside the fences, none is an outlier.
+/// `None` without finite values.
+pub fn robust_range(values: impl Iterator<Item = f64> + Clone) -> Option<(f64, f64)> {
+    let fence = tukey_fences(values.clone())?;
+    let finite = || values.clone().filter(|v| v.is_finite());
+    let inside = || finite().filter(|x| *x >= fence.0 && *x <= fence.1);
+    let (n, outside) = (finite().count(), finite().count() - inside().count());
+    if outside as f64 > MAX_OUTLIER_FRACTION * n as f64 {
+        return finite_range(finite());
     }
-    let fence = (q1 - FENCE_IQRS * iqr, q3 + FENCE_IQRS * iqr);
-    let inside = || v.iter().copied().filter(|x| *x >= fence.0 && *x <= fence.1);
-    let outside = v.len() - inside().count();
-    if outside as f64 > MAX_OUTLIER_FRACTION * v.len() as f64 {
-        return full;
-    }
-    finite_range(inside())
+    // Only values at least the inner values' span away from them are outliers: a peak
+    // just above the rest is data.
+    let (lo, hi) = finite_range(inside())?;
+    let span = hi - lo;
+    finite_range(finite().filter(|x| *x >= lo - span && *x <= hi + span))
+}
+
+/// The automatic y range of `series`: the [`robust_range`] of the series that set the
+/// range, widened to the points of the others that lie within their Tukey fences (the
+/// robust range of all points if no series sets it).
+fn auto_y_range(series: &[Series]) -> Option<(f64, f64)> {
+    let ys = |sets: bool| {
+        (series.iter().filter(move |s| s.sets_range == sets))
+            .flat_map(|s| s.points.iter())
+            .filter(|p| p.0.is_finite())
+            .map(|p| p.1)
+    };
+    let Some(base) = robust_range(ys(true)) else {
+        return robust_range(ys(false));
+    };
+    let fence = tukey_fences(ys(true)).unwrap_or(base);
+    let extra = finite_range(ys(false).filter(|y| *y >= fence.0 && *y <= fence.1));
+    Some(match extra {
+        Some((lo, hi)) => (base.0.min(lo), base.1.max(hi)),
+        None => base,
+    })
 }
 
 /// A tick label for `value` on an axis whose ticks are about `step` apart: as many
@@ -725,8 +771,9 @@ pub fn free_legend_place(
         (right, middle_y),
         (gap, middle_y),
     ];
-    // A margin around the box, so that no point touches its border.
-    let m = px(4.0);
+    // A margin around the box, so that no marker (up to 7 design units across, the
+    // off-scale triangles at the plot's edge) touches its border.
+    let m = px(10.0);
     places.into_iter().find(|&(x0, y0)| {
         !pixels.iter().any(|&(x, y)| {
             (x0 - m..=x0 + w + m).contains(&x) && (y0 - m..=y0 + h + m).contains(&y)
@@ -1041,9 +1088,7 @@ impl Figure for LinePlot {
             Some((lo, hi)) => (to_chart(lo), to_chart(hi)),
             None => padded(finite_range(all().map(|p| p.0)), 0.03),
         };
-        let y_range = self
-            .y_range
-            .unwrap_or_else(|| padded(robust_range(all().map(|p| p.1)), 0.05));
+        let y_range = (self.y_range).unwrap_or_else(|| padded(auto_y_range(&series), 0.05));
         let colors: Vec<RGBColor> = (series.iter().enumerate())
             .map(|(i, s)| s.color.unwrap_or(PALETTE[i % PALETTE.len()]))
             .collect();

@@ -98,6 +98,10 @@ fn robust_ranges_leave_out_far_outliers_only() {
     assert_eq!(robust_range(values.iter().copied()), Some((0.1, 0.199)));
     values.push(8.7);
     assert_eq!(robust_range(values.iter().copied()), Some((0.1, 0.199)));
+    // A peak just above the rest is data, even beyond the fences.
+    let mut peaked: Vec<f64> = (0..100).map(|i| 0.1 + 0.001 * f64::from(i)).collect();
+    peaked.push(0.25);
+    assert_eq!(robust_range(peaked.iter().copied()), Some((0.1, 0.25)));
     // Two clusters far apart are both data: the range covers them.
     let clusters: Vec<f64> = (0..50).map(|i| f64::from(i % 2) * 10.0).collect();
     assert_eq!(robust_range(clusters.into_iter()), Some((0.0, 10.0)));

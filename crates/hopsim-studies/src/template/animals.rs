@@ -2,7 +2,7 @@
 //! `u / sqrt(g l)` over each animal's ranges of take-off angle and energy input.
 
 use super::{span, ParamsWithEccentricity};
-use crate::plot::{three_significant_digits, LinePlot, Series, SeriesStyle, PALETTE};
+use crate::plot::{three_significant_digits, LinePlot, RGBColor, Series, SeriesStyle, PALETTE};
 use crate::progress::Progress;
 use crate::report::{num, num_range, Report, ReportFile, Table};
 use crate::Result;
@@ -171,8 +171,8 @@ impl AnimalSweep {
             format!(
                 "{}: stride against dimensionless speed (ΔE {}…{} J; ×: not converged)",
                 self.case.name(),
-                num(energy.0, ""),
-                num(energy.1, "")
+                three_significant_digits(energy.0),
+                three_significant_digits(energy.1)
             ),
             "dimensionless speed u / sqrt(g l)",
             "stride (m)",
@@ -193,9 +193,20 @@ impl AnimalSweep {
                     Series::points("", open)
                         .style(SeriesStyle::Crosses)
                         .color(color)
-                        .unlabelled(),
+                        .unlabelled()
+                        .without_range(),
                 );
             }
+        }
+        // The crosses' legend entry (their colour is their take-off angle's).
+        let open = |s: &Series| s.style == SeriesStyle::Crosses && !s.points.is_empty();
+        if plot.series.iter().any(open) {
+            let grey = RGBColor(110, 110, 110);
+            plot = plot.with_series(
+                Series::points("not converged (colour: its φ_TO)", Vec::new())
+                    .style(SeriesStyle::Crosses)
+                    .color(grey),
+            );
         }
         plot
     }
