@@ -24,7 +24,7 @@ pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
-pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
+pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use settings::{Meta, Settings, MIN_DT};
 pub use tree::MAX_DEPTH;

@@ -40,7 +40,10 @@ const KEYS: &[(&str, KeyInfo)] = &[
     ("environment.angle", info("incline angle", "rad", "rad")),
     ("environment.step_x", info("step position", "m", "m")),
     ("environment.step_height", info("step height", "m", "m")),
-    ("environment.friction", info("friction coefficient μ", "", "")),
+    (
+        "environment.friction",
+        info("friction coefficient μ", "", ""),
+    ),
     (
         "environment.restitution",
         info("normal restitution ε_N", "", ""),
@@ -50,20 +53,41 @@ const KEYS: &[(&str, KeyInfo)] = &[
         info("tangential restitution ε_T", "", ""),
     ),
     ("bodies.*.mass", info("mass", "kg", "kg")),
-    ("bodies.*.inertia", info("moment of inertia", "kg m²", "kg m²")),
+    (
+        "bodies.*.inertia",
+        info("moment of inertia", "kg m²", "kg m²"),
+    ),
     ("shapes.*.radius", info("radius", "m", "m")),
     ("shapes.*.semi_x", info("semi-axis along x", "m", "m")),
     ("shapes.*.semi_y", info("semi-axis along y", "m", "m")),
     ("shapes.*.friction", info("friction coefficient μ", "", "")),
-    ("shapes.*.restitution", info("normal restitution ε_N", "", "")),
-    ("springs.*.stiffness", info("spring stiffness k", "N/m", "N/m")),
-    ("springs.*.rest_length", info("spring rest length L0", "m", "m")),
-    ("springs.*.damping", info("spring damping c", "N s/m", "N s/m")),
+    (
+        "shapes.*.restitution",
+        info("normal restitution ε_N", "", ""),
+    ),
+    (
+        "springs.*.stiffness",
+        info("spring stiffness k", "N/m", "N/m"),
+    ),
+    (
+        "springs.*.rest_length",
+        info("spring rest length L0", "m", "m"),
+    ),
+    (
+        "springs.*.damping",
+        info("spring damping c", "N s/m", "N s/m"),
+    ),
     ("controller.torque", info("motor torque T", "N m", "N m")),
-    ("controller.impulse_limit", info("impulse limit ζ0", "N m s", "N m s")),
+    (
+        "controller.impulse_limit",
+        info("impulse limit ζ0", "N m s", "N m s"),
+    ),
     ("controller.rearm_timeout", info("re-arm timeout", "s", "s")),
     ("controller.off_time", info("motor off time", "s", "s")),
-    ("controller.pulse_duration", info("pulse duration", "s", "s")),
+    (
+        "controller.pulse_duration",
+        info("pulse duration", "s", "s"),
+    ),
     ("controller.period", info("motor period P", "s", "s")),
     ("controller.frequency", info("motor frequency", "Hz", "Hz")),
     (
@@ -84,7 +108,10 @@ pub fn key_info(key: &str) -> Option<KeyInfo> {
         .find(|(pattern, _)| {
             let pattern: Vec<&str> = pattern.split('.').collect();
             pattern.len() == segments.len()
-                && pattern.iter().zip(&segments).all(|(p, s)| *p == "*" || p == s)
+                && pattern
+                    .iter()
+                    .zip(&segments)
+                    .all(|(p, s)| *p == "*" || p == s)
         })
         .map(|(_, info)| *info)
 }
@@ -145,9 +172,15 @@ mod tests {
             axis_label("controller.cane_delay"),
             "cane delay CD (fraction of the motor period)"
         );
-        assert_eq!(value_label("controller.cane_duration", 0.5), "cane duration CDC = 0.5");
+        assert_eq!(
+            value_label("controller.cane_duration", 0.5),
+            "cane duration CDC = 0.5"
+        );
         assert_eq!(axis_label("bodies.disc.mass"), "disc mass (kg)");
-        assert_eq!(value_label("bodies.0.inertia", 0.003), "body 0 moment of inertia = 0.003 kg m²");
+        assert_eq!(
+            value_label("bodies.0.inertia", 0.003),
+            "body 0 moment of inertia = 0.003 kg m²"
+        );
         assert_eq!(axis_label("environment.friction"), "friction coefficient μ");
         // Unknown keys stay as they are.
         assert_eq!(axis_label("controller.unknown"), "controller.unknown");

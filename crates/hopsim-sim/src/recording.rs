@@ -2,8 +2,8 @@
 
 use crate::{Observer, RunError, StepView};
 use hopsim_record::{
-    recorded_time, BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecorderSet,
-    RecordingInfo,
+    recorded_time, BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame,
+    RecorderSet, RecordingInfo,
 };
 use hopsim_scene::Scene;
 

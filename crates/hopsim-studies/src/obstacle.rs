@@ -347,8 +347,14 @@ impl ObstacleReport {
         let (ratio, tag) = (r.height_ratio, height_tag(r.height_ratio));
         let alpha_froude = category_map(
             format!("cheapest way over a wall, h/R = {ratio}"),
-            ("inertia factor α = I / (m R²)", maps.inertia_factors.clone()),
-            ("log10 of Froude number Fr = u² / (g R)", log10(&maps.froudes)),
+            (
+                "inertia factor α = I / (m R²)",
+                maps.inertia_factors.clone(),
+            ),
+            (
+                "log10 of Froude number Fr = u² / (g R)",
+                log10(&maps.froudes),
+            ),
             &r.inertia_froude,
         );
         // Fr = 1 line of the allometric wheel: u = sqrt(g R(m)).

@@ -442,7 +442,10 @@ fn text_size<DB: DrawingBackend>(
         .map(|(w, h)| (w as i32, h as i32))
         .unwrap_or_else(|_| {
             let size = style.font.get_size();
-            ((0.6 * size * text.chars().count() as f64) as i32, size as i32)
+            (
+                (0.6 * size * text.chars().count() as f64) as i32,
+                size as i32,
+            )
         })
 }
 
@@ -550,9 +553,8 @@ fn draw_axes<DB: DrawingBackend>(
     let (x_step, y_step) = (tick_step(x_range), tick_step(y_range));
     let area = chart.plotting_area().strip_coord_spec();
     let (w, h) = area.dim_in_pixel();
-    let axis_size = |label: &str, room: u32| {
-        fitting_size(&area, &[label.to_string()], AXIS_FONT, room as i32)
-    };
+    let axis_size =
+        |label: &str, room: u32| fitting_size(&area, &[label.to_string()], AXIS_FONT, room as i32);
     let (x_size, y_size) = (axis_size(x_label, w), axis_size(y_label, h));
     let x_format = |v: &f64| match log_x {
         true => three_significant_digits(10f64.powf(*v)),
@@ -626,13 +628,21 @@ fn draw_marker<DB: DrawingBackend>(
     let stroke = color.stroke_width(width.max(1));
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     match marker {
-        Marker::Dot => area.draw(&Circle::new((x, y), radius, color.filled())).map_err(e),
+        Marker::Dot => area
+            .draw(&Circle::new((x, y), radius, color.filled()))
+            .map_err(e),
         Marker::Cross => {
             let r = radius;
-            area.draw(&PathElement::new(vec![(x - r, y - r), (x + r, y + r)], stroke))
-                .map_err(e)?;
-            area.draw(&PathElement::new(vec![(x - r, y + r), (x + r, y - r)], stroke))
-                .map_err(e)
+            area.draw(&PathElement::new(
+                vec![(x - r, y - r), (x + r, y + r)],
+                stroke,
+            ))
+            .map_err(e)?;
+            area.draw(&PathElement::new(
+                vec![(x - r, y + r), (x + r, y - r)],
+                stroke,
+            ))
+            .map_err(e)
         }
         Marker::Triangle => {
             let (r, s) = (radius, if up { -1 } else { 1 });
@@ -640,14 +650,21 @@ fn draw_marker<DB: DrawingBackend>(
             area.draw(&Polygon::new(points, color.filled())).map_err(e)
         }
         Marker::Square => area
-            .draw(&Rectangle::new([(x - radius, y - radius), (x + radius, y + radius)], color.filled()))
+            .draw(&Rectangle::new(
+                [(x - radius, y - radius), (x + radius, y + radius)],
+                color.filled(),
+            ))
             .map_err(e),
         Marker::Line | Marker::LineAndDot => {
             let half = px(12.0);
-            area.draw(&PathElement::new(vec![(x - half, y), (x + half, y)], stroke))
-                .map_err(e)?;
+            area.draw(&PathElement::new(
+                vec![(x - half, y), (x + half, y)],
+                stroke,
+            ))
+            .map_err(e)?;
             if marker == Marker::LineAndDot {
-                area.draw(&Circle::new((x, y), radius, color.filled())).map_err(e)?;
+                area.draw(&Circle::new((x, y), radius, color.filled()))
+                    .map_err(e)?;
             }
             Ok(())
         }
@@ -727,8 +744,11 @@ fn draw_legend_box<DB: DrawingBackend>(
 ) -> DrawResult {
     let (w, h) = layout.size;
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    area.draw(&Rectangle::new([(x0, y0), (x0 + w, y0 + h)], WHITE.mix(0.9).filled()))
-        .map_err(e)?;
+    area.draw(&Rectangle::new(
+        [(x0, y0), (x0 + w, y0 + h)],
+        WHITE.mix(0.9).filled(),
+    ))
+    .map_err(e)?;
     area.draw(&Rectangle::new(
         [(x0, y0), (x0 + w, y0 + h)],
         RGBColor(90, 90, 90).stroke_width(upx(1.0)),
@@ -738,9 +758,21 @@ fn draw_legend_box<DB: DrawingBackend>(
     for (i, entry) in entries.iter().enumerate() {
         let y = y0 + layout.pad + layout.row * i as i32 + layout.row / 2;
         let x = x0 + layout.pad + layout.symbol / 2;
-        draw_marker(area, entry.marker, (x, y), entry.radius, entry.width, entry.color, true)?;
-        area.draw_text(&entry.label, &style, (x0 + layout.pad + layout.symbol + px(4.0), y))
-            .map_err(e)?;
+        draw_marker(
+            area,
+            entry.marker,
+            (x, y),
+            entry.radius,
+            entry.width,
+            entry.color,
+            true,
+        )?;
+        area.draw_text(
+            &entry.label,
+            &style,
+            (x0 + layout.pad + layout.symbol + px(4.0), y),
+        )
+        .map_err(e)?;
     }
     Ok(())
 }
@@ -775,9 +807,9 @@ pub fn free_legend_place(
     // off-scale triangles at the plot's edge) touches its border.
     let m = px(10.0);
     places.into_iter().find(|&(x0, y0)| {
-        !pixels.iter().any(|&(x, y)| {
-            (x0 - m..=x0 + w + m).contains(&x) && (y0 - m..=y0 + h + m).contains(&y)
-        })
+        !pixels
+            .iter()
+            .any(|&(x, y)| (x0 - m..=x0 + w + m).contains(&x) && (y0 - m..=y0 + h + m).contains(&y))
     })
 }
 
@@ -918,9 +950,21 @@ fn draw_series<DB: DrawingBackend>(
         px_x -= xs.start;
         px_y -= ys.start;
         if !inside(y) {
-            draw_marker(&area, Marker::Triangle, (px_x, px_y), px(7.0), 1, color, y > y_range.1)?;
+            draw_marker(
+                &area,
+                Marker::Triangle,
+                (px_x, px_y),
+                px(7.0),
+                1,
+                color,
+                y > y_range.1,
+            )?;
         } else if matches!(marker, Marker::Dot | Marker::LineAndDot | Marker::Cross) {
-            let marker = if marker == Marker::LineAndDot { Marker::Dot } else { marker };
+            let marker = if marker == Marker::LineAndDot {
+                Marker::Dot
+            } else {
+                marker
+            };
             draw_marker(&area, marker, (px_x, px_y), radius, width, color, true)?;
         }
     }
@@ -942,7 +986,11 @@ fn off_scale_entry(series: &[Series], y_range: (f64, f64)) -> Option<LegendEntry
     let (lo, hi) = finite_range(off.iter().copied())?;
     let values = match lo == hi {
         true => three_significant_digits(lo),
-        false => format!("{} to {}", three_significant_digits(lo), three_significant_digits(hi)),
+        false => format!(
+            "{} to {}",
+            three_significant_digits(lo),
+            three_significant_digits(hi)
+        ),
     };
     let points = if off.len() == 1 { "point" } else { "points" };
     Some(LegendEntry {
@@ -1337,7 +1385,12 @@ impl Figure for Heatmap {
         let bar_format = |v: &f64| tick_label(*v, bar_step);
         let (_, bar_h) = bar_chart.plotting_area().dim_in_pixel();
         let bar_area = bar_chart.plotting_area().strip_coord_spec();
-        let label_size = fitting_size(&bar_area, &[self.value_label.clone()], AXIS_FONT - 2.0, bar_h as i32);
+        let label_size = fitting_size(
+            &bar_area,
+            &[self.value_label.clone()],
+            AXIS_FONT - 2.0,
+            bar_h as i32,
+        );
         bar_chart
             .configure_mesh()
             .disable_mesh()

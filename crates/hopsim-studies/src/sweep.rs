@@ -24,22 +24,36 @@ type Metric = (&'static str, &'static str, fn(&RunReport) -> f64);
 /// The run-summary figures a sweep reports, in CSV column order.
 const METRICS: &[Metric] = &[
     ("distance_m", "distance (m)", |r| r.summary.distance_m),
-    ("mean_speed_mps", "mean speed (m/s)", |r| r.summary.mean_speed_mps),
-    ("hops", "hops", |r| r.summary.hops as f64),
-    ("distance_per_hop_m", "distance per hop (m)", |r| r.summary.distance_per_hop_m),
-    ("impulses_count", "impulses", |r| r.summary.impulses.count as f64),
-    ("impulses_total_Nms", "total impulse (N m s)", |r| r.summary.impulses.total),
-    ("impulse_per_distance_Nms_per_m", "impulse per distance (N m s/m)", |r| {
-        r.summary.impulse_per_distance
+    ("mean_speed_mps", "mean speed (m/s)", |r| {
+        r.summary.mean_speed_mps
     }),
+    ("hops", "hops", |r| r.summary.hops as f64),
+    ("distance_per_hop_m", "distance per hop (m)", |r| {
+        r.summary.distance_per_hop_m
+    }),
+    ("impulses_count", "impulses", |r| {
+        r.summary.impulses.count as f64
+    }),
+    ("impulses_total_Nms", "total impulse (N m s)", |r| {
+        r.summary.impulses.total
+    }),
+    (
+        "impulse_per_distance_Nms_per_m",
+        "impulse per distance (N m s/m)",
+        |r| r.summary.impulse_per_distance,
+    ),
     ("brakes_per_s", "brakes per second (1/s)", |r| {
         r.robbit.as_ref().map_or(f64::NAN, |b| b.brakes_per_s)
     }),
-    ("window_impulse_per_distance_Nms_per_m", "impulse per distance in the speed window (N m s/m)", |r| {
-        r.robbit
-            .as_ref()
-            .map_or(f64::NAN, |b| b.impulse_per_distance)
-    }),
+    (
+        "window_impulse_per_distance_Nms_per_m",
+        "impulse per distance in the speed window (N m s/m)",
+        |r| {
+            r.robbit
+                .as_ref()
+                .map_or(f64::NAN, |b| b.impulse_per_distance)
+        },
+    ),
     ("gait_period", "gait period (cycles)", |r| {
         r.gait
             .as_ref()
@@ -49,11 +63,15 @@ const METRICS: &[Metric] = &[
     ("gait_residual", "gait residual (1 = tolerance)", |r| {
         r.gait.as_ref().map_or(f64::NAN, |g| g.residual())
     }),
-    ("max_penetration_m", "largest penetration (m)", |r| r.summary.max_penetration_m),
+    ("max_penetration_m", "largest penetration (m)", |r| {
+        r.summary.max_penetration_m
+    }),
     ("energy_balance_error_J", "energy balance error (J)", |r| {
         r.summary.energy.max_abs_balance_error
     }),
-    ("lcp_failures", "contact LCP failures", |r| r.summary.lcp.failures as f64),
+    ("lcp_failures", "contact LCP failures", |r| {
+        r.summary.lcp.failures as f64
+    }),
     ("wall_time_s", "wall time (s)", |r| r.summary.wall_time_s),
 ];
 

@@ -273,7 +273,7 @@ impl CaseReport {
             "hop number",
             "speed (m/s)",
         )
-            .with_series(Series::line("speed", speeds).style(SeriesStyle::LineAndPoints))
+        .with_series(Series::line("speed", speeds).style(SeriesStyle::LineAndPoints))
     }
 }
 
