@@ -87,7 +87,7 @@ fn an_injected_difference_exits_1_and_is_named() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("found 2.8e-3") && stdout.contains("1 differing samples"),
+        stdout.contains("found 2.8e-3") && stdout.contains("(1 of 41 samples differ"),
         "{stdout}"
     );
     // A loose enough tolerance accepts it.

@@ -44,7 +44,7 @@ PROBLEMS = [
 # z agreement: |z_siconos - z_hopsim|_inf <= Z_TOL * max(1, |z|_inf).
 Z_TOL = 1e-7
 
-# Robbit's controller (physics.md 5.3) is read from the scene hopsim runs (--scene) and
+# Robbit's controller (docs/physics.md 5.3) is read from the scene hopsim runs (--scene) and
 # emulated once in closed loop to get the open-loop controls that the timed MuJoCo rollout
 # replays; robbit.xml has Table 5.1's bodies.
 I_S, I_R = 3.004e-3, 1.543e-3

@@ -83,7 +83,7 @@ class Trajectory:
     @property
     def energy(self) -> Dict[str, np.ndarray]:
         """Energies, J: kinetic, potential, spring, actuator_work, dissipated,
-        balance_error (physics.md §6)."""
+        balance_error (docs/physics.md §6)."""
         return {
             name[: -len("_J")]: self.frames[:, i]
             for i, name in enumerate(self.columns)

@@ -36,7 +36,7 @@ fn run_error(error: RunError) -> PyErr {
 
 /// What a controller written in Python commands for one step: torques held over the step,
 /// impulses applied inside it, velocity locks (brakes) and contact-shape switches
-/// (physics.md §3, §5.3, §5.4). Bodies and shapes are indices (`Scene.bodies`,
+/// (docs/physics.md §3, §5.3, §5.4). Bodies and shapes are indices (`Scene.bodies`,
 /// `Scene.shapes`). Build one, fill it before each step, pass it to `Simulation.step`,
 /// and `clear()` it: the buffers are reused.
 #[pyclass(name = "Actuation", module = "hopsim")]
@@ -71,7 +71,7 @@ impl PyActuation {
     }
 
     /// A generalised force on the joint of `body` held over the step: a torque (N m) on a
-    /// revolute joint, a force (N) along a prismatic one (physics.md §7).
+    /// revolute joint, a force (N) along a prismatic one (docs/physics.md §7).
     fn joint_force(&mut self, body: usize, force: f64) {
         self.actuation
             .joint_forces
@@ -452,7 +452,7 @@ impl PySimulation {
     }
 
     /// Energies after the last step, J: `kinetic`, `potential`, `spring`, `actuator_work`,
-    /// `dissipated`, `balance_error` (physics.md §6).
+    /// `dissipated`, `balance_error` (docs/physics.md §6).
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let sim = self.shared();
         let e = hopsim_record::EnergySample::from_ledger(&sim.stepper().record().energy);

@@ -59,7 +59,7 @@ def test_run_equals_the_command_line_with_its_summary(robbit, cli_run):
 
 
 class MomentumImpulse:
-    """Robbit's momentum-stored-impulse control (physics.md §5.3) written in Python: motor
+    """Robbit's momentum-stored-impulse control (docs/physics.md §5.3) written in Python: motor
     torque `T` on the flywheel (`-T` on the disc) in stance; brake when the stored impulse
     `ζ = I_S I_R/(I_S + I_R) (ψ̇ - φ̇)` reaches `ζ0`; rearm at touchdown, or after
     `rearm_timeout` if the brake did not lift the disc."""

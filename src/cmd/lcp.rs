@@ -176,7 +176,9 @@ fn json_line(path: &Path, problem: &LcpProblem, sol: &LcpSolution, median: Optio
         },
         median_solve_ns: median.map(|ns| (ns * 10.0).round() / 10.0),
     };
-    serde_json::to_string(&line).unwrap_or_default()
+    hopsim_io::to_json_value(&line)
+        .and_then(|json| serde_json::to_string(&json))
+        .unwrap_or_default()
 }
 
 fn human(path: &Path, problem: &LcpProblem, sol: &LcpSolution, median: Option<f64>) -> String {

@@ -16,7 +16,7 @@ pub fn render<R: Report>(report: &R, output: &OutputArgs) -> anyhow::Result<()> 
         None => Vec::new(),
     };
     if output.json {
-        let mut value = serde_json::to_value(report)?;
+        let mut value = hopsim_io::to_json_value(report)?;
         if let Some(map) = value.as_object_mut() {
             map.insert("files".into(), files.into());
         }

@@ -115,7 +115,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     observer.finish()?;
     if let Some(mut file) = summary_file {
         let path = file.path().to_path_buf();
-        serde_json::to_writer_pretty(&mut file, &summary)
+        hopsim_io::to_json_value(&summary)
+            .and_then(|json| serde_json::to_writer_pretty(&mut file, &json))
             .map_err(std::io::Error::from)
             .and_then(|()| file.write_all(b"\n"))
             .with_context(|| format!("writing the summary to {}", path.display()))?;

@@ -1,4 +1,4 @@
-//! Cost of Robbit's fixed-point analysis (physics.md §5.3, docs/analysis.md §9.11): one
+//! Cost of Robbit's fixed-point analysis (docs/physics.md §5.3, docs/analysis.md §9.11): one
 //! return-map evaluation, one grid point (multi-start Levenberg–Marquardt and the
 //! stability Jacobian), and a 10 × 10 grid on all cores, from which a 150 × 150 grid is
 //! extrapolated (× 225).

@@ -1,4 +1,4 @@
-//! The impulse-actuated cube, Robbit's baseline (physics.md §5.3 [5.21]).
+//! The impulse-actuated cube, Robbit's baseline (docs/physics.md §5.3 [5.21]).
 //!
 //! A cube of face diagonal `l` hops by one angular impulse per step: it lands on its face
 //! with restitution `ε` and takes off at `α = π/4`. At forward speed `u_x` it needs the
@@ -9,7 +9,7 @@
 //! For Robbit, `m` is the whole robot's mass `m_S + m_R` (the flywheel pivots at the centre
 //! of mass: it adds its mass but not its inertia about the landing edge), `I_S` the disc's
 //! inertia and `l = 2(R − a)` for a disc of radius `R` whose centre is `a` from the centre
-//! of mass (physics.md §5.3, "hopsim: the cube baseline").
+//! of mass (docs/physics.md §5.3, "hopsim: the cube baseline").
 
 use serde::Serialize;
 

@@ -1,4 +1,4 @@
-//! Fixed points of Robbit's return map and their stability (physics.md §5.3).
+//! Fixed points of Robbit's return map and their stability (docs/physics.md §5.3).
 //!
 //! For a section state `z = (φ_TO, φ̇_TO)` ([`crate::robbit`]) the fixed-point control
 //! `β* = (T*, ζ0*)` solves `P(z; β) = z`: two equations in two unknowns, solved by
@@ -79,7 +79,7 @@ impl FixedPoint {
         self.cycle.speed()
     }
 
-    /// Impulse per travelled distance `ζ0 / stride` [N m s per m] (physics.md §5.3).
+    /// Impulse per travelled distance `ζ0 / stride` [N m s per m] (docs/physics.md §5.3).
     pub fn impulse_per_distance(&self) -> f64 {
         self.control.impulse_limit / self.cycle.stride
     }
@@ -361,7 +361,7 @@ pub const TORQUE_BOUNDS: (f64, f64) = (1e-3, 5.0);
 /// `T → ∞` in which the cycle shrinks to nothing and `P` tends to the identity.
 pub const IMPULSE_BOUNDS: (f64, f64) = (1e-3, 0.5);
 
-/// A take-off angle × take-off energy grid (physics.md §5.3; the thesis used 150 × 150).
+/// A take-off angle × take-off energy grid (docs/physics.md §5.3; the thesis used 150 × 150).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FixedPointGrid {
     /// Robot parameters.

@@ -1,4 +1,4 @@
-//! Inelastic impacts and applied impulses in generalised coordinates (physics.md §3).
+//! Inelastic impacts and applied impulses in generalised coordinates (docs/physics.md §3).
 //!
 //! All functions take the mass matrix `M` (`n × n`, symmetric positive definite), a contact
 //! (or actuation) Jacobian `J` (`k × n`, rows are the constrained relative velocities, e.g.

@@ -1,4 +1,4 @@
-//! The impulsive wheel with centred mass (physics.md §5.5, thesis appendix C).
+//! The impulsive wheel with centred mass (docs/physics.md §5.5, thesis appendix C).
 //!
 //! A wheel `m, I, R` rolls at `φ̇_S` and is kicked every `T_C` seconds at its contact point
 //! by an impulse of fixed magnitude `‖ζ‖` in the body-fixed direction `(−sin φ, cos φ)`.
@@ -38,7 +38,7 @@ pub struct ImpulsiveWheel {
 }
 
 impl Default for ImpulsiveWheel {
-    /// `m = R = I = 1`, `T_C = 1`, `E₀ = 1`, `g = 9.81` (physics.md §5.5).
+    /// `m = R = I = 1`, `T_C = 1`, `E₀ = 1`, `g = 9.81` (docs/physics.md §5.5).
     fn default() -> Self {
         ImpulsiveWheel {
             mass: 1.0,

@@ -1,4 +1,4 @@
-//! Closed-form impact maps and reduced models of hopsim (physics.md §3 and §5).
+//! Closed-form impact maps and reduced models of hopsim (docs/physics.md §3 and §5).
 //!
 //! * [`impact`]: collision matrix, inelastic impacts, applied impulses (§3).
 //! * [`template`]: the four-map impulsive eccentric-wheel template (§5.1).
@@ -28,5 +28,5 @@ pub mod template;
 
 pub use error::{AnalysisError, Result};
 
-/// Gravitational acceleration used by default, `g = 9.81 m/s²` (physics.md §1).
+/// Gravitational acceleration used by default, `g = 9.81 m/s²` (docs/physics.md §1).
 pub const STANDARD_GRAVITY: f64 = 9.81;

@@ -1,4 +1,4 @@
-//! A wheel overcoming an obstacle: rolling, trivial hop, rotational hop (physics.md §5.2,
+//! A wheel overcoming an obstacle: rolling, trivial hop, rotational hop (docs/physics.md §5.2,
 //! thesis ch. 4).
 //!
 //! The obstacle is a thin wall (a kerb of negligible thickness) of height `h < R` standing
@@ -25,7 +25,7 @@
 //!   braking + spin energy [4.7] plus the energy deficit after the inelastic touchdown
 //!   [4.9]; `φ₀` is chosen to minimise the cost ([`rotational_hop_cost`]).
 //!
-//! Sign conventions as everywhere (physics.md §1): `x` to the right (the direction of
+//! Sign conventions as everywhere (docs/physics.md §1): `x` to the right (the direction of
 //! travel), `φ` counter-clockwise, so forward rolling has `φ̇ = −u_x/R`. The derivations are
 //! in `docs/analysis.md`.
 
@@ -151,7 +151,7 @@ pub fn corner_jacobian_at(centre: [f64; 2]) -> DMatrix<f64> {
 /// The corner Jacobian [4.12] at first contact, for a wheel moving to the right that hits
 /// an edge of height `h` ahead of it: `[[1, 0, R − h], [0, 1, sqrt(2Rh − h²)]]`.
 ///
-/// physics.md prints the second row with `−sqrt(2Rh − h²)`: that is the mirror image (edge
+/// docs/physics.md prints the second row with `−sqrt(2Rh − h²)`: that is the mirror image (edge
 /// behind the centre, or clockwise-positive `φ`). For an approach velocity without vertical
 /// component both signs give the same collision loss; the sign here is the one that makes
 /// the post-impact motion a rotation about an edge ahead of the wheel.
@@ -644,7 +644,7 @@ pub struct StrategyComparison {
 }
 
 /// The cost of each of the three strategies for `wheel` at `speed` over a wall of `height`,
-/// and the cheapest (physics.md §5.2).
+/// and the cheapest (docs/physics.md §5.2).
 pub fn compare_strategies(wheel: &Wheel, speed: f64, height: f64) -> Result<StrategyComparison> {
     let rolling = rolling_cost(wheel, speed, height)?;
     let trivial = trivial_hop_cost(wheel, height);

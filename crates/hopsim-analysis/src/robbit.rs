@@ -1,4 +1,4 @@
-//! Robbit, the off-centred disc with a flywheel (physics.md §5.3, thesis ch. 5), as a
+//! Robbit, the off-centred disc with a flywheel (docs/physics.md §5.3, thesis ch. 5), as a
 //! reduced model: one hopping cycle maps the Poincaré-section state just before the brake
 //! to the next one.
 //!
@@ -22,7 +22,7 @@
 //!    `φ̈ = −(T + m g a sin φ + m a R φ̇² sin φ) / (m R² + m a² + I_S − 2 m R a cos φ)`,
 //!    `I_R ψ̈ = T`, integrated (Dormand–Prince) until `ζ` reaches `ζ0`: the next section state.
 //!
-//! Sign conventions (physics.md §1): `φ` counter-clockwise, forward is `+x`, so forward
+//! Sign conventions (docs/physics.md §1): `φ` counter-clockwise, forward is `+x`, so forward
 //! rolling is `φ̇ < 0`. The brake adds `ζ0 > 0` counter-clockwise: a backward-rotating hop,
 //! which lifts the disc only when the CoM is behind the contact point, `sin φ < 0`.
 //! `docs/analysis.md` §9 has the derivation.
@@ -59,7 +59,7 @@ impl FlywheelAtTouchdown {
     }
 }
 
-/// Robbit's parameters (Table 5.1 of the thesis, physics.md §5.3), SI units.
+/// Robbit's parameters (Table 5.1 of the thesis, docs/physics.md §5.3), SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RobbitParams {
     /// Disc radius `R` [m].
@@ -100,7 +100,7 @@ impl Default for RobbitParams {
     }
 }
 
-/// The control `β = (T, ζ0)` of the momentum-stored impulse (physics.md §5.3).
+/// The control `β = (T, ζ0)` of the momentum-stored impulse (docs/physics.md §5.3).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Control {
     /// Stance torque `T` [N m]: `+T` on the flywheel, `−T` on the body.
@@ -385,7 +385,7 @@ fn array4(v: &DVector<f64>) -> [f64; 4] {
 }
 
 /// Map 1: the brake at the section state `z` with impulse limit `ζ0`, resolved with the
-/// unilateral ground contact (physics.md §3, §4): first with the contact closed (rows
+/// unilateral ground contact (docs/physics.md §3, §4): first with the contact closed (rows
 /// `w_T, w_N, B`); if its normal percussion is ≥ 0 the disc stays on the ground
 /// ([`NoCycle::NoLiftOff`]), otherwise the contact opens and only the lock acts.
 pub fn brake(p: &RobbitParams, z: &SectionState, impulse_limit: f64) -> CycleResult<Brake> {
@@ -426,7 +426,7 @@ pub struct Touchdown {
 }
 
 /// Map 3: restitution-0, no-slip touchdown at angle `phi` through the collision matrix
-/// (physics.md §3), rows `w_T, w_N` plus the brake row `B` when the flywheel is locked.
+/// (docs/physics.md §3), rows `w_T, w_N` plus the brake row `B` when the flywheel is locked.
 pub fn touchdown(p: &RobbitParams, phi: f64, velocity_before: &[f64; 4]) -> Result<Touchdown> {
     let locked = p.touchdown == FlywheelAtTouchdown::Locked;
     let hit = impact::inelastic_impact(

@@ -1,4 +1,4 @@
-//! The impulsive eccentric-wheel template (physics.md §5.1, thesis ch. 3).
+//! The impulsive eccentric-wheel template (docs/physics.md §5.1, thesis ch. 3).
 //!
 //! One rigid body `q = (x, y, φ)`: mass `m`, inertia `I` about the centre of mass, a
 //! circular foot of radius `R` whose centre sits at `CoM + (−a sin φ, a cos φ)` with
@@ -14,7 +14,7 @@
 //! 4. [`stance`]: energy-conserving rolling (the §2 ODE with `T = 0`) until `φ` reaches
 //!    `φ_TO` again moving forward, or "no gait" when it cannot.
 //!
-//! Sign convention (physics.md §1): `x` to the right, `φ` counter-clockwise. Rolling
+//! Sign convention (docs/physics.md §1): `x` to the right, `φ` counter-clockwise. Rolling
 //! without slip gives `ẋ = φ̇ (a cos φ − R)`, so with `a < R` forward motion (`ẋ > 0`) means
 //! clockwise rotation, `φ̇ < 0`. With `φ_TO < 0` the centre of mass is behind the contact
 //! point at take-off and `ρ` leans forward when `φ_TO + τ < 0`: the template hops towards
@@ -55,9 +55,9 @@ pub struct TemplateParams {
     /// Impulse tilt `τ` [rad]: `ρ = (−sin(φ_TO + τ), cos(φ_TO + τ))`.
     #[serde(rename = "impulse_tilt_rad")]
     pub impulse_tilt: f64,
-    /// Number of hops to simulate (physics.md: 100).
+    /// Number of hops to simulate (docs/physics.md: 100).
     pub hops: usize,
-    /// Hops at the end of the run that the averages are taken over (physics.md: 10).
+    /// Hops at the end of the run that the averages are taken over (docs/physics.md: 10).
     pub window: usize,
     /// Gravitational acceleration [m/s²].
     #[serde(rename = "gravity_mps2")]
@@ -153,7 +153,7 @@ pub struct CaseRanges {
     pub energy_input: (f64, f64),
 }
 
-/// The parameter sets of Table 3.1 (physics.md §5.1).
+/// The parameter sets of Table 3.1 (docs/physics.md §5.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TemplateCase {
@@ -316,7 +316,7 @@ pub fn rolling_inertia(p: &TemplateParams, phi: f64) -> f64 {
     p.mass * (p.radius * p.radius + a * a - 2.0 * p.radius * a * phi.cos()) + p.inertia
 }
 
-/// Angular acceleration while rolling with no torque (physics.md §2 with `T = 0`):
+/// Angular acceleration while rolling with no torque (docs/physics.md §2 with `T = 0`):
 /// `φ̈ = −(m g a sin φ + m a R φ̇² sin φ) / (m R² + m a² + I − 2 m R a cos φ)`.
 pub fn stance_acceleration(p: &TemplateParams, phi: f64, phi_dot: f64) -> f64 {
     let a = p.eccentricity();
@@ -561,7 +561,7 @@ const STANCE_RTOL: f64 = 1e-11;
 const STANCE_ATOL: f64 = 1e-12;
 const STANCE_MAX_STEPS: usize = 200_000;
 
-/// Map 4: integrates the rolling ODE (physics.md §2, `T = 0`) from the post-touchdown state
+/// Map 4: integrates the rolling ODE (docs/physics.md §2, `T = 0`) from the post-touchdown state
 /// until `φ` passes `φ_TO + 2πk` while decreasing (forward rolling), with an adaptive
 /// Dormand–Prince 5(4) method (relative tolerance 1e-11); the crossing is located by
 /// Brent's method on the step size. `x` follows the rolling constraint in closed form,
@@ -808,7 +808,7 @@ pub struct TemplateRun {
 /// Samples per flight phase in a recorded trajectory.
 const FLIGHT_SAMPLES: usize = 32;
 
-/// Runs the template from rest in stance at `φ_TO` for `p.hops` hops (physics.md §5.1).
+/// Runs the template from rest in stance at `φ_TO` for `p.hops` hops (docs/physics.md §5.1).
 /// With `record_trajectory`, the centre-of-mass trajectory is kept (32 samples per flight,
 /// every accepted integration step in stance).
 pub fn simulate(p: &TemplateParams, record_trajectory: bool) -> Result<TemplateRun> {

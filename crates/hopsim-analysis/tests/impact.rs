@@ -1,4 +1,4 @@
-//! Collision matrix and applied impulses (physics.md §3) against independent mechanics.
+//! Collision matrix and applied impulses (docs/physics.md §3) against independent mechanics.
 
 use hopsim_analysis::impact::{
     apply_impulse, collision_matrix, impulse_for_energy_gain, inelastic_impact, kinetic_energy,
@@ -10,7 +10,7 @@ fn diag(m: f64, inertia: f64) -> DMatrix<f64> {
     DMatrix::from_diagonal(&DVector::from_vec(vec![m, m, inertia]))
 }
 
-/// Flat-ground contact Jacobian of an eccentric disc (rows w_T, w_N), physics.md §2.
+/// Flat-ground contact Jacobian of an eccentric disc (rows w_T, w_N), docs/physics.md §2.
 fn ground_jacobian(radius: f64, a: f64, phi: f64) -> DMatrix<f64> {
     DMatrix::from_row_slice(
         2,

@@ -1,4 +1,4 @@
-//! The impulsive wheel's return map (physics.md §5.5): closed forms against iteration.
+//! The impulsive wheel's return map (docs/physics.md §5.5): closed forms against iteration.
 
 use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel};
 
@@ -92,7 +92,7 @@ fn bifurcation_settles_on_the_fixed_point_inside_the_stable_interval() {
     assert!((diagram[1].1[5] - b).abs() < 1e-6);
 }
 
-/// Non-unit parameters against physics.md §5.5 written out here, independently of the
+/// Non-unit parameters against docs/physics.md §5.5 written out here, independently of the
 /// module's `coupling`/`return_map`: `E₀ = ½ (I + m R²) φ̇_S²` (rolling wheel, centred
 /// mass), `c = R ‖ζ‖² / (m I g)`, `φ* = ½ asin(φ̇_S T_C / c)`,
 /// `λ = 1 − 2 sqrt(c² − φ̇_S² T_C²)`, stable for `φ̇_S T_C < c < sqrt(1 + φ̇_S² T_C²)`.

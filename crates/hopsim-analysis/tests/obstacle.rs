@@ -1,4 +1,4 @@
-//! A wheel over a wall (physics.md §5.2) against independent mechanics.
+//! A wheel over a wall (docs/physics.md §5.2) against independent mechanics.
 
 use hopsim_analysis::impact::{apply_impulse, inelastic_impact, kinetic_energy};
 use hopsim_analysis::obstacle::{
@@ -38,7 +38,7 @@ proptest! {
         let loss = corner_impact_loss(&w, u, h).unwrap();
         let expected = corner_loss_by_angular_momentum(&w, u, h);
         prop_assert!((loss - expected).abs() < 1e-10 * (1.0 + w.rolling_kinetic_energy(u)));
-        // physics.md prints [4.12] with −sqrt(2Rh − h²): the mirror image gives the same loss.
+        // docs/physics.md prints [4.12] with −sqrt(2Rh − h²): the mirror image gives the same loss.
         let s = (2.0 * r * h - h * h).sqrt();
         let mirrored = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, r - h, 0.0, 1.0, -s]);
         let before = DVector::from_vec(vec![u, 0.0, -u / r]);

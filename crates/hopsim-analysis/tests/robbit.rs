@@ -1,4 +1,4 @@
-//! Robbit's reduced model (physics.md §5.3) against independent mechanics: momentum and
+//! Robbit's reduced model (docs/physics.md §5.3) against independent mechanics: momentum and
 //! energy balances, the template's rigid-body impact, the iterated return map.
 
 use hopsim_analysis::fixed_points::{

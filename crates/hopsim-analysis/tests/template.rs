@@ -1,4 +1,4 @@
-//! The eccentric-wheel template (physics.md §5.1) against independent mechanics.
+//! The eccentric-wheel template (docs/physics.md §5.1) against independent mechanics.
 
 use hopsim_analysis::template::{
     self, contact_jacobian, flight, gap, rolling_velocity, simulate, stance, stance_height,
@@ -58,7 +58,7 @@ fn flight_conserves_energy_and_stays_above_ground() {
 
 #[test]
 fn stance_ode_conserves_energy() {
-    // The stance samples come from integrating physics.md §2's ODE; energy along them is
+    // The stance samples come from integrating docs/physics.md §2's ODE; energy along them is
     // computed here from the rolling constraint's velocities.
     let run = cargo2_run();
     let p = &run.params;

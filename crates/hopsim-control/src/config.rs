@@ -1,6 +1,6 @@
 //! Plain controller settings, as a scene file states them (SI units).
 
-/// Momentum-stored-impulse control of Robbit (physics.md §5.3).
+/// Momentum-stored-impulse control of Robbit (docs/physics.md §5.3).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MomentumImpulseConfig {
     /// Index of the flywheel body; it receives `+T`, its parent (the disc) `-T`.
@@ -17,7 +17,7 @@ pub struct MomentumImpulseConfig {
     pub hold_brake: bool,
 }
 
-/// When the next cycle starts (the motor back on) after a brake (physics.md §5.3).
+/// When the next cycle starts (the motor back on) after a brake (docs/physics.md §5.3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Release {
     /// Motor off until the disc touches the ground again after a flight (the thesis'
@@ -50,7 +50,7 @@ impl std::fmt::Display for Release {
     }
 }
 
-/// When the cane is extended (physics.md §5.4).
+/// When the cane is extended (docs/physics.md §5.4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum CaneMode {
     /// Never extended.
@@ -78,7 +78,7 @@ impl std::fmt::Display for CaneMode {
     }
 }
 
-/// Open-loop bi-directional joint torque pulse with a cane schedule (physics.md §5.4).
+/// Open-loop bi-directional joint torque pulse with a cane schedule (docs/physics.md §5.4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PulseConfig {
     /// Index of the body driven by the joint motor (its parent takes the reaction).

@@ -1,5 +1,5 @@
 //! Controllers: each step they read the state and fill an [`Actuation`] (torques,
-//! impulses, brakes) and switch contact shapes (physics.md §5.3, §5.4).
+//! impulses, brakes) and switch contact shapes (docs/physics.md §5.3, §5.4).
 
 mod config;
 mod momentum_impulse;
@@ -19,7 +19,7 @@ pub struct ControlInput<'a> {
     /// State at the start of the step.
     pub state: &'a State,
     /// Step size `Δt`, s: the step runs from `state.t` to `state.t + Δt`, and the forces of
-    /// the midpoint scheme act at `t^M = state.t + Δt/2` (physics.md §4).
+    /// the midpoint scheme act at `t^M = state.t + Δt/2` (docs/physics.md §4).
     pub dt: f64,
     /// Kinematics at the start of the step.
     pub kinematics: &'a Kinematics,

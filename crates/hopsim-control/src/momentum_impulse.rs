@@ -1,4 +1,4 @@
-//! Robbit's momentum-stored-impulse control (physics.md §5.3).
+//! Robbit's momentum-stored-impulse control (docs/physics.md §5.3).
 
 use crate::{ControlEvent, ControlInput, Controller, MomentumImpulseConfig, Release};
 use hopsim_model::Model;

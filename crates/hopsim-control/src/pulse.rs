@@ -1,10 +1,10 @@
-//! CaneBot's open-loop bi-directional torque pulse and cane schedule (physics.md §5.4).
+//! CaneBot's open-loop bi-directional torque pulse and cane schedule (docs/physics.md §5.4).
 
 use crate::{shape_gap, CaneMode, ControlEvent, ControlInput, Controller, PulseConfig};
 use hopsim_step::{Actuation, TorqueCommand};
 
 /// The schedule is read at each step's midpoint time `t^M = t^A + Δt/2`, where the midpoint
-/// scheme evaluates its forces (physics.md §4). A step never straddles a switching time
+/// scheme evaluates its forces (docs/physics.md §4). A step never straddles a switching time
 /// ambiguously: when `Δt` divides the switching times (scenes/canebot.toml: `Δt = P/1800`)
 /// every midpoint lies half a step away from them, and each pulse lasts the same number of
 /// steps in every period.

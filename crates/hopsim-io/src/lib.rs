@@ -1,5 +1,6 @@
 //! Output files for every hopsim writer: atomic files ([`AtomicFile`], [`AtomicPath`],
-//! [`write_atomically`]) and CSV tables ([`CsvTable`]).
+//! [`write_atomically`]), CSV tables ([`CsvTable`]) and JSON without negative zeros
+//! ([`to_json_value`]).
 //!
 //! A failed or interrupted run never leaves a file that looks complete: every output is
 //! written under a hidden temporary name beside its target (`.<name>.partial-XXXXXX`),
@@ -8,12 +9,14 @@
 mod atomic;
 mod bounded;
 mod csv;
+mod json;
 
 pub use atomic::{
     create_dir, partial_path, remove_temporary_files, write_atomically, AtomicFile, AtomicPath,
 };
 pub use bounded::{read_bounded, read_text_bounded, Content};
 pub use csv::{csv_field, Cell, CsvTable};
+pub use json::{to_json_string_pretty, to_json_value};
 
 use std::path::{Path, PathBuf};
 

@@ -1,4 +1,4 @@
-//! Lemke on contact LCPs of the form in physics.md §4 (μ = 1): the exact 6×6 two-contact
+//! Lemke on contact LCPs of the form in docs/physics.md §4 (μ = 1): the exact 6×6 two-contact
 //! Robbit case, and rows of eccentric discs giving sizes 3, 6, 12, 24 and 48.
 //! Reference point (issue 2): Siconos' C lexicographic Lemke, ~380 ns on the Robbit case.
 

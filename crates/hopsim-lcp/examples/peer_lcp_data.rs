@@ -32,7 +32,7 @@ fn main() {
         "robbit_6x6".into(),
         m,
         q,
-        "Robbit (physics.md 5.3) rolling into the corner of a 5 cm step: two closed \
+        "Robbit (docs/physics.md 5.3) rolling into the corner of a 5 cm step: two closed \
          frictional contacts, mu = 1, dt = 2e-4 s; the criterion benchmark lemke_robbit_6x6 \
          (crates/hopsim-lcp/tests/common/mod.rs, robbit_two_contacts)."
             .into(),

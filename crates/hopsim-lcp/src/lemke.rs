@@ -130,7 +130,7 @@ impl LemkeSolver {
         self.cap = n;
     }
 
-    /// Solves `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` (the contact LCP of physics.md §4 is
+    /// Solves `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` (the contact LCP of docs/physics.md §4 is
     /// one) by Lemke's method, then, if that fails and `options.fallback`, other covering
     /// vectors and enumeration.
     ///

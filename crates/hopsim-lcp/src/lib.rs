@@ -3,7 +3,7 @@
 //! Finds `z` with `w = M z + q`, `z ≥ 0`, `w ≥ 0`, `zᵀw = 0` by Lemke's complementary
 //! pivoting with the lexicographic minimum-ratio test (Murty, "Linear Complementarity,
 //! Linear and Nonlinear Programming", ch. 2), as the Moreau time-stepper needs for the
-//! frictional contact LCP of physics.md §4. Every answer carries a [`Certificate`]; the
+//! frictional contact LCP of docs/physics.md §4. Every answer carries a [`Certificate`]; the
 //! status is [`LcpStatus::Solved`] only when it holds. When Lemke's method fails, the
 //! solver retries with another covering vector and, for small `n`, enumerates
 //! complementary bases. Pure numerics: knows nothing of mechanics. See `docs/lcp.md`.

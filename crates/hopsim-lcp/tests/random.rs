@@ -1,5 +1,5 @@
 //! Property tests: random P-matrix LCPs against brute-force enumeration, frictional contact
-//! LCPs of physics.md §4, and random (often degenerate or unsolvable) small LCPs whose
+//! LCPs of docs/physics.md §4, and random (often degenerate or unsolvable) small LCPs whose
 //! reported status must be the truth.
 
 mod common;
@@ -104,7 +104,7 @@ proptest! {
         }
     }
 
-    /// Frictional contact LCPs (physics.md §4) with one to four contacts between eccentric
+    /// Frictional contact LCPs (docs/physics.md §4) with one to four contacts between eccentric
     /// discs, the ground, each other and a wall; random masses, shapes, states and μ.
     #[test]
     fn frictional_contact_lcps_solve_with_a_valid_certificate(seed in any::<u64>(), contacts in 1usize..=4) {

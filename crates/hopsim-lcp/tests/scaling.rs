@@ -7,7 +7,7 @@ use hopsim_lcp::{LcpSolution, LcpStatus, LemkeSolver};
 use nalgebra::{dmatrix, dvector, DMatrix, DVector};
 
 /// The problems of the scaling test: the Robbit two-contact LCP and random contact LCPs
-/// of physics.md §4 (one disc on the ground, a disc in a corner, two and four discs in a
+/// of docs/physics.md §4 (one disc on the ground, a disc in a corner, two and four discs in a
 /// row against a wall: sizes 3, 6, 12 and 24).
 fn contact_problems() -> Vec<(DMatrix<f64>, DVector<f64>)> {
     let mut rng = common::Rng(0x5ca1_ab1e);

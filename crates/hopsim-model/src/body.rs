@@ -1,5 +1,5 @@
 //! Rigid bodies and the joints that attach them to a parent body or to the world
-//! (physics.md §1, §7).
+//! (docs/physics.md §1, §7).
 
 use crate::Vec2;
 
@@ -12,7 +12,7 @@ pub enum JointCoordinate {
     Relative,
 }
 
-/// What a joint lets the child do relative to its parent (physics.md §7).
+/// What a joint lets the child do relative to its parent (docs/physics.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum JointKind {
     /// Rotation about the pivot; one coordinate, an angle (rad).
@@ -27,7 +27,7 @@ pub enum JointKind {
 }
 
 /// End stops `lower ≤ s ≤ upper` of a joint's position (rad or m), with their own
-/// restitution: two unilateral frictionless rows of the contact LCP (physics.md §7).
+/// restitution: two unilateral frictionless rows of the contact LCP (docs/physics.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointLimits {
     /// Lower stop (may be `-∞`: none).
@@ -42,7 +42,7 @@ pub struct JointLimits {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
     /// Index of the parent body (smaller than the child's index); `None`: the world (a
-    /// pinned or fixed base, physics.md §7).
+    /// pinned or fixed base, docs/physics.md §7).
     pub parent: Option<usize>,
     /// The pivot in the parent's body frame, relative to the parent's centre of mass (for
     /// the world: the pivot's world position), m.
@@ -114,7 +114,7 @@ impl Body {
 
     /// A flywheel on `parent`: an undamped joint at the parent's centre of mass, which is
     /// also the flywheel's own centre of mass, with an absolute-angle coordinate (Robbit's
-    /// `ψ`, physics.md §5.3).
+    /// `ψ`, docs/physics.md §5.3).
     pub fn flywheel(name: impl Into<String>, mass: f64, inertia: f64, parent: usize) -> Self {
         Self {
             name: name.into(),

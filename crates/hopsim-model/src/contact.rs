@@ -1,11 +1,11 @@
 //! Contact kinematics: the gap `g_N` and the contact frame of every potential contact
-//! between a body's shape and a terrain feature (physics.md §1, §2).
+//! between a body's shape and a terrain feature (docs/physics.md §1, §2).
 
 use crate::ellipse::closest_point_on_ellipse;
 use crate::kinematics::Rotation;
 use crate::{Shape, TerrainFeature, Vec2};
 
-/// Friction and restitution of one contact (physics.md §4).
+/// Friction and restitution of one contact (docs/physics.md §4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactMaterial {
     /// Coulomb friction coefficient `μ` (≥ 0).

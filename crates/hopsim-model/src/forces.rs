@@ -1,4 +1,4 @@
-//! Force elements: linear springs between points on two bodies (physics.md §5.4).
+//! Force elements: linear springs between points on two bodies (docs/physics.md §5.4).
 
 use crate::Vec2;
 

@@ -1,5 +1,5 @@
 //! Forward kinematics of the body tree: poses, Jacobians and velocity-product
-//! accelerations of every body, evaluated into reused buffers (physics.md §1).
+//! accelerations of every body, evaluated into reused buffers (docs/physics.md §1).
 //!
 //! One pass over the bodies (parents before children) computes everything; each body's
 //! rotation `(sin θ, cos θ)` is evaluated once and only for bodies whose geometry needs it.

@@ -1,6 +1,6 @@
 //! Planar multibody model in minimal (generalised) coordinates.
 //!
-//! A model is one or more trees of bodies (physics.md §1, §7). A tree's root is a floating
+//! A model is one or more trees of bodies (docs/physics.md §1, §7). A tree's root is a floating
 //! base `(x, y, φ)`, pinned to a world point by a revolute joint, or fixed to the world;
 //! its other bodies hang on revolute or prismatic joints, each with optional damping, a
 //! joint spring and end stops (joint limits). It knows its mass matrix `M(q)`, the force vector `h(q, u, t)` and the

@@ -1,5 +1,5 @@
 //! The immutable model: bodies, shapes, terrain, springs, and the equations of motion
-//! `M(q) u̇ = h(q, u, t) + W λ` (physics.md §1).
+//! `M(q) u̇ = h(q, u, t) + W λ` (docs/physics.md §1).
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
@@ -48,7 +48,7 @@ pub enum ModelError {
     },
 }
 
-/// One end stop of a joint (physics.md §7): the unilateral constraint
+/// One end stop of a joint (docs/physics.md §7): the unilateral constraint
 /// `g = s − lower ≥ 0` or `g = upper − s ≥ 0` on the joint position `s` of `body`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LimitCandidate {
@@ -92,7 +92,7 @@ pub struct Model {
     /// The bodies, parents before children. A body without a joint is a floating base with
     /// coordinates `(x, y, φ)`; a body on a joint adds one coordinate (none when fixed).
     /// Coordinates are numbered in body order, so one floating tree has
-    /// `q = (x, y, φ, q_1, q_2, …)` (physics.md §1, §7).
+    /// `q = (x, y, φ, q_1, q_2, …)` (docs/physics.md §1, §7).
     pub bodies: Vec<Body>,
     /// Contact shapes on the bodies.
     pub shapes: Vec<ShapeInstance>,
@@ -104,9 +104,9 @@ pub struct Model {
     pub springs: Vec<Spring>,
     /// Gravitational acceleration, m/s² (default `(0, -9.81)`).
     pub gravity: Vec2,
-    /// Every finite joint stop (physics.md §7), two per joint with both limits.
+    /// Every finite joint stop (docs/physics.md §7), two per joint with both limits.
     pub limits: Vec<LimitCandidate>,
-    /// Every potential contact between shapes of two bodies (physics.md §7), added by
+    /// Every potential contact between shapes of two bodies (docs/physics.md §7), added by
     /// [`Model::add_body_contacts`]. In the stepper's numbering they follow the terrain
     /// contacts: body–body contact `p` is contact `contacts.len() + p`.
     pub pairs: Vec<PairCandidate>,
@@ -154,7 +154,7 @@ impl Model {
 
     /// Adds the potential contacts between shape `a` and shape `b` (indices into
     /// [`Model::shapes`], on two different bodies that are not both fixed) with `material`
-    /// (physics.md §7); returns how many candidates the pair makes (see
+    /// (docs/physics.md §7); returns how many candidates the pair makes (see
     /// [`crate::pair_features`]). Joined bodies are allowed: filtering is the caller's.
     pub fn add_body_contacts(
         &mut self,
@@ -249,7 +249,7 @@ impl Model {
         )
     }
 
-    /// Writes `w_N`, `w_T` of body–body contact `p` at `geometry` (physics.md §7) into
+    /// Writes `w_N`, `w_T` of body–body contact `p` at `geometry` (docs/physics.md §7) into
     /// slices of length `n`.
     #[inline]
     pub fn pair_directions_to(
@@ -319,7 +319,7 @@ impl Model {
     /// Adds a generalised force `value` acting in the joint of body `b` to `out`: a torque
     /// on `b` with its reaction on the parent (revolute, N m) or a force along the axis on
     /// `b` and its reaction on the parent (prismatic, N), i.e. `value ∂s/∂q` with `s` the
-    /// joint position (physics.md §7). Nothing for a floating or fixed body.
+    /// joint position (docs/physics.md §7). Nothing for a floating or fixed body.
     #[inline]
     pub fn add_joint_force_to(
         &self,
@@ -418,7 +418,7 @@ impl Model {
     }
 
     /// Adds the conservative forces (gravity, centripetal terms, elastic spring forces;
-    /// physics.md §1) to `conservative` and joint and spring damping to `dissipative`.
+    /// docs/physics.md §1) to `conservative` and joint and spring damping to `dissipative`.
     fn add_forces(
         &self,
         kinematics: &Kinematics,
@@ -516,7 +516,7 @@ impl Model {
     }
 
     /// Writes the generalised normal and tangential directions `w_N = J_Pᵀ n`,
-    /// `w_T = J_Pᵀ t` of contact `i` at `geometry` (physics.md §1, [2.5-2.7]).
+    /// `w_T = J_Pᵀ t` of contact `i` at `geometry` (docs/physics.md §1, [2.5-2.7]).
     pub fn contact_directions(
         &self,
         kinematics: &Kinematics,

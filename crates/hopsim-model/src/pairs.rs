@@ -1,4 +1,4 @@
-//! Contacts between shapes of two bodies (physics.md §7): the candidates of a shape pair,
+//! Contacts between shapes of two bodies (docs/physics.md §7): the candidates of a shape pair,
 //! their gap and contact frame in closed form, and their generalised directions.
 //!
 //! Every candidate is a *probe* of one shape (a circle's or arc's centre with its radius,
@@ -207,7 +207,7 @@ pub(crate) fn pair_geometry(
     })
 }
 
-/// Writes `w_N = J_B(p_B)ᵀ n − J_A(p_A)ᵀ n` and `w_T` likewise (physics.md §7) for the
+/// Writes `w_N = J_B(p_B)ᵀ n − J_A(p_A)ᵀ n` and `w_T` likewise (docs/physics.md §7) for the
 /// probe on body `probe` and the target on body `target`.
 pub(crate) fn pair_directions_to(
     kinematics: &Kinematics,

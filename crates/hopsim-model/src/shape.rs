@@ -6,7 +6,7 @@ use crate::Vec2;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     /// A disc of `radius` centred at `center`; an eccentric disc has `center = (0, a)`
-    /// so that its centre sits at `CoM + (-a sin φ, a cos φ)` (physics.md §2).
+    /// so that its centre sits at `CoM + (-a sin φ, a cos φ)` (docs/physics.md §2).
     Circle { center: Vec2, radius: f64 },
     /// The circular arc of `radius` about `center` spanning the body-frame angles
     /// `start ..= end` (counter-clockwise, `end > start`): a curved foot (§5.4).

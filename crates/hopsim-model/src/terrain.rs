@@ -6,7 +6,7 @@ use crate::Vec2;
 #[derive(Clone, Debug, PartialEq)]
 pub enum TerrainFeature {
     /// The straight piece `origin + s t`, `s ∈ [from, to]` (either may be infinite), with
-    /// unit outward normal `normal` and tangent `t = (n_y, -n_x)` (physics.md §1, §2).
+    /// unit outward normal `normal` and tangent `t = (n_y, -n_x)` (docs/physics.md §1, §2).
     Line {
         origin: Vec2,
         normal: Vec2,
@@ -62,7 +62,7 @@ impl Terrain {
     }
 
     /// Flat ground at `y = 0` with a step up of `height` m whose face is at `x = face_x`;
-    /// the step's top edge `(face_x, height)` is a corner contact (physics.md §5.2).
+    /// the step's top edge `(face_x, height)` is a corner contact (docs/physics.md §5.2).
     pub fn step(face_x: f64, height: f64) -> Self {
         let up = Vec2::new(0.0, 1.0);
         let left = Vec2::new(-1.0, 0.0);

@@ -1,4 +1,4 @@
-//! Contact geometry against independent geometry (physics.md §1-§2): an ellipse and a
+//! Contact geometry against independent geometry (docs/physics.md §1-§2): an ellipse and a
 //! convex polygon against a terrain corner, checked by dense sampling with Newton
 //! refinement, by point-segment distances and by parry2d's GJK/EPA queries; and the
 //! clearance of every shape above a step, from all its candidates together.

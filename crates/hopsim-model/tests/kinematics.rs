@@ -1,5 +1,5 @@
 //! Kinematics, mass matrix and forces of a body tree against independent derivations:
-//! finite differences of positions and energies, and Lagrange's equations (physics.md §1).
+//! finite differences of positions and energies, and Lagrange's equations (docs/physics.md §1).
 
 use hopsim_model::{
     Body, ContactMaterial, Joint, JointCoordinate, JointKind, Kinematics, Model, Shape,
@@ -72,7 +72,7 @@ fn tree(offsets: [f64; 6], damping: f64) -> Model {
     .unwrap()
 }
 
-/// Two trees and a fixed body (physics.md §7): a floating hip with a leg on a sprung,
+/// Two trees and a fixed body (docs/physics.md §7): a floating hip with a leg on a sprung,
 /// damped prismatic joint at an offset pivot and a tilted axis; a fixed frame; an arm
 /// pinned to the world with a torsional joint spring, carrying a slider on a prismatic
 /// joint. Offsets as in [`tree`].

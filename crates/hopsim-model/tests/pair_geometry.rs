@@ -1,4 +1,4 @@
-//! Body–body contact geometry (physics.md §7) against parry2d's contact query, an
+//! Body–body contact geometry (docs/physics.md §7) against parry2d's contact query, an
 //! independent implementation: disc–disc, disc–polygon and polygon–polygon (separated),
 //! each pair on two floating bodies at random poses; and the generalised directions
 //! `w_N`, `w_T` against finite differences of the gap and of the contact points.
@@ -137,7 +137,7 @@ proptest! {
         prop_assert!((gap - reference).abs() < 1e-7, "gap {gap} vs parry {reference}");
     }
 
-    /// `w_N = ∂g_N/∂q` (physics.md §7: `J_Bᵀ n − J_Aᵀ n`) by central differences of the
+    /// `w_N = ∂g_N/∂q` (docs/physics.md §7: `J_Bᵀ n − J_Aᵀ n`) by central differences of the
     /// gap, for a disc against a box and a disc against a disc.
     #[test]
     fn normal_direction_is_the_gap_gradient(

@@ -4,7 +4,7 @@
 //! shape switched), and a `foxglove.FrameTransforms` per frame placing the body frames.
 //!
 //! The plane of the simulation is the x–z plane of Foxglove's 3D world: a planar point
-//! `(x, y)` (y up, physics.md §1) is `(x, 0, y)`, so gravity points along −z, Foxglove's
+//! `(x, y)` (y up, docs/physics.md §1) is `(x, 0, y)`, so gravity points along −z, Foxglove's
 //! down. A counter-clockwise planar rotation by `θ` is then a rotation by `−θ` about +y.
 
 use crate::geometry::{

@@ -67,7 +67,7 @@ pub struct ContactSample {
     pub state: &'static str,
 }
 
-/// Energies at a frame, J (physics.md §6).
+/// Energies at a frame, J (docs/physics.md §6).
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct EnergySample {
     pub kinetic: f64,
@@ -89,7 +89,7 @@ impl EnergySample {
         "balance_error",
     ];
 
-    /// The energies of a step's ledger (physics.md §6).
+    /// The energies of a step's ledger (docs/physics.md §6).
     pub fn from_ledger(e: &hopsim_step::EnergyLedger) -> Self {
         Self {
             kinetic: e.kinetic,
@@ -115,10 +115,28 @@ impl EnergySample {
     }
 }
 
+/// Decimals of a recorded time: 1 ps, far below the smallest step (`simulation.dt ≥ 1e-9
+/// s`), so distinct steps keep distinct times.
+pub const TIME_DECIMALS: i32 = 12;
+
+/// The time `t` (s) as recordings, events and summaries write it: rounded to
+/// [`TIME_DECIMALS`] decimals, so that the time of step `k`, `t0 + k·Δt` in floating point
+/// (e.g. `0.45170000000000005`), reads as the decimal it stands for (`0.4517`). Times too
+/// large for the rounding to be exact (beyond about 9000 s) are returned unchanged.
+pub fn recorded_time(t: f64) -> f64 {
+    let scale = 10f64.powi(TIME_DECIMALS);
+    let scaled = t * scale;
+    // Exact integers only up to 2^53.
+    if !scaled.is_finite() || scaled.abs() >= 9.0e15 {
+        return t;
+    }
+    scaled.round() / scale
+}
+
 /// One recorded instant.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame<'a> {
-    /// Simulation time, s.
+    /// Simulation time, s ([`recorded_time`]).
     pub t: f64,
     /// Step index.
     pub step: u64,
@@ -152,7 +170,7 @@ pub enum EventKind {
     /// The robot left the ground (no contact carries load).
     TakeOff,
     /// A brake locked a relative rotation; `impulse` is the angular impulse transferred,
-    /// N m s (physics.md §5.3, `ζ`).
+    /// N m s (docs/physics.md §5.3, `ζ`).
     Brake {
         #[serde(rename = "impulse_Nms")]
         impulse: f64,
@@ -165,7 +183,7 @@ pub enum EventKind {
     AppliedImpulse { magnitude: f64 },
     /// A joint stop (`<body>/lower` or `<body>/upper`) started carrying load: its
     /// percussion in that step, N m s (revolute joint) or N s (prismatic joint)
-    /// (physics.md §7).
+    /// (docs/physics.md §7).
     JointLimit { limit: String, impulse: f64 },
 }
 
@@ -207,7 +225,7 @@ impl fmt::Display for EventKind {
 /// A discrete event at a time.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Event {
-    /// Time, s.
+    /// Time, s ([`recorded_time`]).
     #[serde(rename = "t_s")]
     pub t: f64,
     /// Step index.
@@ -267,6 +285,23 @@ impl FrameLayout {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn recorded_times_read_as_the_step_times_they_stand_for() {
+        let dt = 2e-4;
+        // k·Δt in floating point carries round-off in the last digits.
+        assert_eq!(format!("{:?}", 2259.0 * dt), "0.45180000000000003");
+        assert_eq!(format!("{:?}", recorded_time(2259.0 * dt)), "0.4518");
+        // Every step of a long run keeps its own time, equal to k·Δt within round-off.
+        let mut last = f64::NEG_INFINITY;
+        for k in (0..200_000_u32).step_by(7) {
+            let t = recorded_time(f64::from(k) * 1e-9 + 1.0);
+            assert!(t > last && (t - (f64::from(k) * 1e-9 + 1.0)).abs() < 1e-12);
+            last = t;
+        }
+        assert_eq!(recorded_time(-0.30000000000000004), -0.3);
+        assert_eq!(recorded_time(1e20), 1e20);
+    }
     use super::*;
 
     #[test]

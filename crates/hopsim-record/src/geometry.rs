@@ -9,7 +9,7 @@ use std::f64::consts::TAU;
 pub(crate) type Point = [f64; 2];
 
 /// Unit of a generalised coordinate. `q = (x, y, φ, θ_1, …)` (docs/architecture.md): the
-/// base's centre of mass in metres, then angles in radians (physics.md §1).
+/// base's centre of mass in metres, then angles in radians (docs/physics.md §1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum CoordinateUnit {
     Metre,

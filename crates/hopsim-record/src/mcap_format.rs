@@ -15,9 +15,9 @@ use std::collections::BTreeMap;
 
 /// Time, step, generalised coordinates and velocities, poses, CoM, actuator torque.
 pub const STATE_TOPIC: &str = "/hopsim/state";
-/// The contacts of the step's index set with their percussions (physics.md §4).
+/// The contacts of the step's index set with their percussions (docs/physics.md §4).
 pub const CONTACTS_TOPIC: &str = "/hopsim/contacts";
-/// The energy ledger (physics.md §6).
+/// The energy ledger (docs/physics.md §6).
 pub const ENERGY_TOPIC: &str = "/hopsim/energy";
 /// Discrete events (touchdown, take-off, brake, shape switch, applied impulse).
 pub const EVENTS_TOPIC: &str = "/hopsim/events";
@@ -211,7 +211,7 @@ fn contacts_schema() -> Value {
 
 fn energy_schema() -> Value {
     object(
-        "energy ledger, J (physics.md §6)",
+        "energy ledger, J (docs/physics.md §6)",
         properties(stamp().into_iter().chain([
             ("kinetic_J", number("kinetic energy, J")),
             ("potential_J", number("gravitational potential energy, J")),
@@ -262,7 +262,7 @@ fn event_schema() -> Value {
         ),
         (
             "impulse_Nms",
-            number("brake: angular impulse transferred ζ, N m s (physics.md §5.3)"),
+            number("brake: angular impulse transferred ζ, N m s (docs/physics.md §5.3)"),
         ),
         (
             "shape",
@@ -288,7 +288,7 @@ fn event_schema() -> Value {
             "impulse",
             number(
                 "joint_limit: the stop's percussion in that step, N m s (revolute joint) or \
-                 N s (prismatic joint) (physics.md §7)",
+                 N s (prismatic joint) (docs/physics.md §7)",
             ),
         ),
     ]);

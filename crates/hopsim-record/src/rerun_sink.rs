@@ -200,7 +200,7 @@ impl RerunRecorder {
     /// The y-up transform, the names and colours of the plotted series, and what of each
     /// body never changes: its centre of mass and spoke (body frame).
     fn log_static_entities(&mut self) -> Result<(), RecordError> {
-        // Rerun's 2D views draw y downwards; mirror so that y (physics.md §1) points up.
+        // Rerun's 2D views draw y downwards; mirror so that y (docs/physics.md §1) points up.
         self.log_static("world", &Transform3D::from_scale([1.0_f32, -1.0, 1.0]))?;
         for series in &self.columns.series {
             let colors = (0..series.names.len()).map(|i| rgb(palette(series.first_color + i)));
@@ -771,7 +771,7 @@ impl Drawing {
     }
 
     /// The arrow of a contact's mean force `(Λ_N n + Λ_T t)/Δt` with `t = (n_y, −n_x)`
-    /// (physics.md §1), scaled and clipped; `None` for a contact without force.
+    /// (docs/physics.md §1), scaled and clipped; `None` for a contact without force.
     fn force_arrow(
         &self,
         normal: Point,

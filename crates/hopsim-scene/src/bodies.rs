@@ -1,4 +1,4 @@
-//! `[[bodies]]`, `[[shapes]]` and `[[springs]]`: the multibody model (physics.md §1).
+//! `[[bodies]]`, `[[shapes]]` and `[[springs]]`: the multibody model (docs/physics.md §1).
 
 use crate::body_contacts::{read_filter, Filter};
 use crate::environment::read_material;
@@ -408,7 +408,7 @@ impl Coordinates {
 }
 
 /// A revolute or prismatic joint on `parent` (`None`: the world, a pinned base) at `pivot`,
-/// with its coordinate's name, damping, spring and limits (physics.md §7).
+/// with its coordinate's name, damping, spring and limits (docs/physics.md §7).
 fn read_joint(
     t: &Table<'_>,
     name: &str,

@@ -1,5 +1,5 @@
 //! `[body_contacts]` and `[[contact_pairs]]`: contacts between shapes of two bodies
-//! (physics.md §7, `docs/scene-format.md`).
+//! (docs/physics.md §7, `docs/scene-format.md`).
 
 use crate::bodies::{Names, ShapeSpec};
 use crate::error::SceneError;
@@ -52,7 +52,7 @@ pub(crate) fn read_filter(t: &Table<'_>) -> Result<Filter, SceneError> {
 }
 
 /// The default material of a pair: `[body_contacts]`' values where given, else the mean
-/// of the two shapes' (physics.md §7).
+/// of the two shapes' (docs/physics.md §7).
 fn pair_material(
     defaults: &[Option<f64>; 3],
     a: &ContactMaterial,

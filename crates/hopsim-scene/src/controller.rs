@@ -1,4 +1,4 @@
-//! `[controller]`: which controller runs and its parameters (physics.md §5.3, §5.4).
+//! `[controller]`: which controller runs and its parameters (docs/physics.md §5.3, §5.4).
 
 use crate::bodies::{Names, ShapeSpec};
 use crate::error::{number, SceneError};

@@ -4,7 +4,7 @@ use crate::error::SceneError;
 use crate::reader::{Num, Table};
 use hopsim_model::{ContactMaterial, Terrain};
 
-/// Reads the terrain and the default contact material (physics.md §4: `μ`, `ε_N`, `ε_T`).
+/// Reads the terrain and the default contact material (docs/physics.md §4: `μ`, `ε_N`, `ε_T`).
 pub(crate) fn read_environment(env: &Table<'_>) -> Result<(Terrain, ContactMaterial), SceneError> {
     let terrain = match env.choice("terrain", &["flat", "incline", "step"], Some("flat"))? {
         "flat" => Terrain::flat(env.f64_or("height", 0.0, Num::any("m").coordinate())?),

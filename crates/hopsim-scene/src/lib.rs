@@ -6,7 +6,8 @@
 //! [`Scene`]: a [`hopsim_model::Model`], an initial [`hopsim_step::State`], a
 //! [`hopsim_control::ControllerConfig`] and the run [`Settings`]. Every error says where
 //! (file:line:column, or the `--set` argument), which key, what was found and what was
-//! expected; unknown keys get a "did you mean".
+//! expected; unknown keys get a "did you mean". [`axis_label`] names a numeric key in words
+//! with its unit, for figures.
 
 mod bodies;
 mod body_contacts;
@@ -16,6 +17,7 @@ mod error;
 mod overrides;
 mod reader;
 mod scene;
+mod schema;
 mod settings;
 mod tree;
 
@@ -24,5 +26,6 @@ pub use error::{Location, SceneError};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
 pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
+pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use settings::{Meta, Settings, MIN_DT};
 pub use tree::MAX_DEPTH;

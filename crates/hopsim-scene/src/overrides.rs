@@ -5,7 +5,7 @@
 //! Path segments are table keys; in an array, a segment is an index (`initial.q.1`) or the
 //! `name` of a table in an array of tables (`bodies.disc.mass`).
 
-use crate::error::SceneError;
+use crate::error::{suggestion, SceneError};
 use crate::tree::{parse_override_value, Entry, Kind, Node, Origin};
 
 /// One `--set key=value` argument, or a value another option (`--duration`, `--grid`)
@@ -111,18 +111,15 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
                 &mut entry.node
             }
             Kind::Array(items) => {
-                let pos = seg.parse::<usize>().ok().or_else(|| {
-                    items.iter().position(|item| {
-                        item.entries().iter().any(|e| {
-                            e.key == "name" && matches!(&e.node.kind, Kind::Str(n) if n == seg)
-                        })
-                    })
-                });
+                let pos = (seg.parse::<usize>().ok())
+                    .or_else(|| items.iter().position(|item| table_name(item) == Some(*seg)));
                 let len = items.len();
+                let names: Vec<&str> = items.iter().filter_map(table_name).collect();
+                let hint = suggestion(seg, names.iter().copied());
                 let Some(item) = pos.and_then(|p| items.get_mut(p)) else {
                     return Err(fail(format!(
                         "{here} is an array of {len}; '{seg}' is neither an index below {len} \
-                         nor the name of one of its tables"
+                         nor the name of one of its tables{hint}"
                     )));
                 };
                 if last {
@@ -149,6 +146,14 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
         walked.push_str(seg);
     }
     Ok(())
+}
+
+/// The `name` of a table in an array of tables.
+fn table_name(item: &Node) -> Option<&str> {
+    item.entries().iter().find_map(|e| match &e.node.kind {
+        Kind::Str(n) if e.key == "name" => Some(n.as_str()),
+        _ => None,
+    })
 }
 
 /// A value may replace a value, not a table or an array of tables: a scene's sections
@@ -233,7 +238,28 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("array of 1"), "{e}");
+        assert!(!e.contains("did you mean"), "{e}");
         assert!("novalue".parse::<Override>().is_err());
         assert!("a..b=1".parse::<Override>().is_err());
+    }
+
+    #[test]
+    fn a_misspelt_table_name_gets_a_suggestion() {
+        let mut root = doc(
+            "[[bodies]]\nname = \"disc\"\nmass = 1.0\n[[bodies]]\nname = \"flywheel\"\nmass = 0.4\n",
+        );
+        let e = apply(&mut root, &"bodies.flywhel.mass=0.5".parse().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("--set bodies.flywhel.mass=0.5:")
+                && e.ends_with("did you mean 'flywheel'?"),
+            "{e}"
+        );
+        // A name far from every table's gets no guess.
+        let e = apply(&mut root, &"bodies.cane.mass=0.5".parse().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("did you mean"), "{e}");
     }
 }

@@ -19,7 +19,7 @@ pub struct Meta {
 pub struct Settings {
     /// Simulated time, s.
     pub duration: f64,
-    /// Step size `Δt`, s (physics.md §4).
+    /// Step size `Δt`, s (docs/physics.md §4).
     pub dt: f64,
     /// Gravitational acceleration along `-y`, m/s².
     pub gravity: f64,
@@ -30,7 +30,7 @@ pub struct Settings {
     /// run; default: its second half), s.
     pub speed_window: f64,
     /// `[summary] cube_restitution`: the restitution `ε` of the second cube baseline of
-    /// physics.md §5.3 (the first is `ε = 0`).
+    /// docs/physics.md §5.3 (the first is `ε = 0`).
     pub cube_restitution: f64,
     /// Stop on the first contact LCP without a certified solution.
     pub strict: bool,

@@ -30,7 +30,7 @@ fn every_bundled_scene_loads() {
     assert!(count >= 6, "{count} scenes");
 }
 
-/// Several trees in one scene (physics.md §7): coordinates in body order, named by kind;
+/// Several trees in one scene (docs/physics.md §7): coordinates in body order, named by kind;
 /// a fixed base without mass; a pinned base's pivot in the world; a prismatic joint's axis
 /// scaled to unit length; joint springs and limits as written.
 #[test]
@@ -154,7 +154,7 @@ fn robbit_has_the_parameters_of_table_5_1() {
         .all(|c| c.material.restitution_normal == 0.0));
 }
 
-/// The thesis' control (physics.md §5.3): 0.16 N m read as the motor's torque, driving the
+/// The thesis' control (docs/physics.md §5.3): 0.16 N m read as the motor's torque, driving the
 /// flywheel through the gear of ratio 2.4.
 const MOTOR_TORQUE: f64 = 0.16;
 const GEAR_RATIO: f64 = 2.4;
@@ -288,7 +288,7 @@ fn overridden_values_are_checked_like_file_values() {
 #[test]
 fn rest_on_ground_places_the_lowest_shape_on_the_terrain() {
     // Start high, let the scene lower the robot: the disc's lowest point, R − a below the
-    // centre of mass at φ = 0, then touches y = 0 (physics.md §2: g_N = y + a cos φ − R).
+    // centre of mass at φ = 0, then touches y = 0 (docs/physics.md §2: g_N = y + a cos φ − R).
     let s = load(
         "scenes/robbit.toml",
         &["initial.q.1=0.5", "initial.rest_on_ground=true"],

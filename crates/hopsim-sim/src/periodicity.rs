@@ -1,4 +1,4 @@
-//! Poincaré-section period detection for gaits (physics.md §5.3, §5.4).
+//! Poincaré-section period detection for gaits (docs/physics.md §5.3, §5.4).
 //!
 //! The section is stroboscopic for periodically driven gaits: the state at the start of
 //! every motor period `t = k P` ([`PoincareSection::new`]). Steps do not in general end on

@@ -3,8 +3,8 @@
 use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_record::{
-    BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecorderSet,
-    RecordingInfo, Stop,
+    recorded_time, BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame,
+    RecorderSet, RecordingInfo, Stop,
 };
 use hopsim_scene::Scene;
 use std::path::PathBuf;
@@ -31,7 +31,7 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
                     .collect(),
             })
             .collect(),
-        // Terrain contacts, then body–body contacts (physics.md §7).
+        // Terrain contacts, then body–body contacts (docs/physics.md §7).
         contacts: (0..model.contact_count())
             .map(|i| model.contact_name(i).to_string())
             .collect(),
@@ -139,7 +139,7 @@ impl Observer for RecordingObserver {
 
 impl RecordingObserver {
     /// Records a `joint_limit` event for every joint stop that starts carrying load in this
-    /// step (physics.md §7), with its percussion. A stop carries load when its percussion
+    /// step (docs/physics.md §7), with its percussion. A stop carries load when its percussion
     /// exceeds `LIMIT_LOAD` (round-off of a stop held closed without load stays below).
     fn joint_limit_hits(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
         const LIMIT_LOAD: f64 = 1e-9;
@@ -149,7 +149,7 @@ impl RecordingObserver {
             self.limit_loaded_now[l.limit] = true;
             if !self.limit_loaded[l.limit] {
                 self.limit_events.push(Event {
-                    t: view.record.t,
+                    t: recorded_time(view.record.t),
                     step: view.record.step,
                     kind: EventKind::JointLimit {
                         limit: view.model.limits[l.limit].name.clone(),
@@ -205,7 +205,7 @@ impl RecordingObserver {
         let com = model.center_of_mass(ws);
         let e = view.record.energy;
         self.recorders.frame(&Frame {
-            t: view.state.t,
+            t: recorded_time(view.state.t),
             step,
             q: view.state.q.as_slice(),
             u: view.state.u.as_slice(),

@@ -2,7 +2,7 @@
 
 use crate::{FlightEvent, FlightTracker, Observer, RunError, StepView};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
-use hopsim_record::{Event, EventKind};
+use hopsim_record::{recorded_time, Event, EventKind};
 use hopsim_scene::Scene;
 use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, Stepper};
 use std::ops::Deref;
@@ -301,6 +301,9 @@ impl<'s> Simulation<'s> {
                 })
             }
             None => {}
+        }
+        for event in &mut self.events {
+            event.t = recorded_time(event.t);
         }
         observer.on_step(&self.view())
     }

@@ -1,4 +1,4 @@
-//! The run summary of physics.md §6 (distance, speed, hops, impulses, energy, LCP), made of
+//! The run summary of docs/physics.md §6 (distance, speed, hops, impulses, energy, LCP), made of
 //! what an observer sees of every step.
 
 use crate::{Observer, RunError, StepView};
@@ -8,7 +8,7 @@ use hopsim_scene::Scene;
 use hopsim_step::{LcpStats, State};
 use serde::Serialize;
 
-/// Impulses applied by actuators: the brakes' angular impulses `ζ` (physics.md §5.3).
+/// Impulses applied by actuators: the brakes' angular impulses `ζ` (docs/physics.md §5.3).
 ///
 /// The JSON keys `total_Ns` and `impulse_per_distance_Ns_per_m` are the run-summary
 /// contract's names; the values are in [`IMPULSE_UNIT`] (and per metre), given as `unit`.
@@ -43,7 +43,7 @@ pub struct LcpSummary {
 }
 
 /// Totals over the speed window (the last `speed_window_s`), from which scene-specific
-/// figures are made (Robbit's brakes per second and `Σζ / distance`, physics.md §5.3). Not
+/// figures are made (Robbit's brakes per second and `Σζ / distance`, docs/physics.md §5.3). Not
 /// part of the summary's JSON.
 #[derive(Clone, Debug, Default)]
 pub struct WindowTotals {

@@ -1,5 +1,5 @@
 //! Parameter sweeps: a scene run over the Cartesian product of grid axes, in parallel,
-//! with results in a deterministic order (physics.md §5.3, the speed-versus-impulse map).
+//! with results in a deterministic order (docs/physics.md §5.3, the speed-versus-impulse map).
 
 use crate::{RunError, Summary};
 use hopsim_scene::{Override, Scene};

@@ -57,7 +57,7 @@ fn a_callers_actuation_acts_as_the_controllers() {
 
 /// An applied impulse is an event of its magnitude and changes the momentum by itself:
 /// an upward impulse `ζ` at the centre of mass of Robbit at rest lifts it at
-/// `ζ/m − g Δt` (the contact opens), physics.md §3.
+/// `ζ/m − g Δt` (the contact opens), docs/physics.md §3.
 #[test]
 fn an_applied_impulse_is_an_event_and_a_momentum_change() {
     let scene = scene("robbit.toml", &[]);

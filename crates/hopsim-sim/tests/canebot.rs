@@ -1,4 +1,4 @@
-//! CaneBot (physics.md §5.4) through the whole run loop: the scene files, the joint's
+//! CaneBot (docs/physics.md §5.4) through the whole run loop: the scene files, the joint's
 //! springs and motor against closed-form mechanics, the cane's switching rules and energy,
 //! the periodicity of the gaits, and a golden contact-impulse trace.
 //!
@@ -71,7 +71,7 @@ fn the_three_scenes_describe_the_same_robot() {
             "{name}: controller"
         );
     }
-    // The robot of physics.md §5.4: two bodies, ±0.4 N m for 0.1 s each, P = 1/2.8 s.
+    // The robot of docs/physics.md §5.4: two bodies, ±0.4 N m for 0.1 s each, P = 1/2.8 s.
     assert_eq!(base.model.bodies.len(), 2);
     assert_eq!((b.torque, b.pulse_duration), (0.4, 0.1));
     assert!((b.period - 1.0 / 2.8).abs() < 1e-15);
@@ -380,7 +380,7 @@ fn motor_pulse_drives_the_joint_as_the_linear_oscillator_predicts() {
 // ---------------------------------------------------------------------------------------
 // The cane.
 
-/// Checks, every step, the cane rules of physics.md §5.4 and the energy account:
+/// Checks, every step, the cane rules of docs/physics.md §5.4 and the energy account:
 /// - a cane is extended only when the schedule wants it and its tip is clear of the ground
 ///   (gap > 0 at the start of the step), and a scheduled extension is held back only while
 ///   the tip is not clear;
@@ -454,7 +454,7 @@ impl Observer for CaneCheck {
             .events
             .iter()
             .any(|e| matches!(e.kind, EventKind::ShapeSwitch { .. }));
-        // The controller reads its schedule at the step's midpoint time (physics.md §4).
+        // The controller reads its schedule at the step's midpoint time (docs/physics.md §4).
         let wanted = self.pulse.cane_wanted(t0 + 0.5 * self.dt);
         let mut fail = |what: String| self.failures.push(format!("t = {t0:.5}: {what}"));
         if switched != (active != self.prev_active) {

@@ -1,8 +1,8 @@
 //! The classic gallery scenes (`scenes/classic/`) against their closed forms
-//! (docs/classics.md §2, §3; physics.md §7): a pendulum pinned to the world hitting a joint
+//! (docs/classics.md §2, §3; docs/physics.md §7): a pendulum pinned to the world hitting a joint
 //! stop, and a point-foot hopper on a prismatic spring leg. Each result is checked at the
 //! scene's step and at a coarser one, against a tolerance proportional to `Δt` fitted to
-//! the measured errors: the scheme is first order (physics.md §4.6), so an error that did
+//! the measured errors: the scheme is first order (docs/physics.md §4.6), so an error that did
 //! not shrink with `Δt` fails.
 
 mod common;

@@ -1,5 +1,5 @@
 //! Gallery scenes with contacts between bodies and the Painlevé paradox
-//! (docs/classics.md §1, §5; physics.md §7): Newton's cradle of 3 and 5 balls against
+//! (docs/classics.md §1, §5; docs/physics.md §7): Newton's cradle of 3 and 5 balls against
 //! Moreau's simultaneous impact law and, with gaps between the balls, against sequential
 //! binary collisions; Painlevé's rod above the critical friction against the closed-form
 //! solution of its one-step LCP.

@@ -1,4 +1,4 @@
-//! The momentum-impulse controller's release modes (physics.md §5.3, docs/scene-format.md),
+//! The momentum-impulse controller's release modes (docs/physics.md §5.3, docs/scene-format.md),
 //! step by step: from each step's contact load and brakes, the steps in which the motor
 //! must be on are derived independently of the controller and compared with the torque it
 //! commanded.

@@ -1,4 +1,4 @@
-//! Robbit (physics.md §5.3) through the whole run loop: scene file, momentum-impulse
+//! Robbit (docs/physics.md §5.3) through the whole run loop: scene file, momentum-impulse
 //! controller, brakes, flight detection and summary.
 
 mod common;
@@ -19,7 +19,7 @@ struct Previous {
 /// by exactly the logged impulse; the robot's total angular momentum about its centre of
 /// mass changes by exactly the moment of the logged contact percussions; and a brake
 /// whose step carries no contact percussion transfers exactly the stored impulse
-/// `ζ = I_S I_R/(I_S + I_R)(ψ̇ − φ̇)` of physics.md [5.7-5.9].
+/// `ζ = I_S I_R/(I_S + I_R)(ψ̇ − φ̇)` of docs/physics.md [5.7-5.9].
 struct BrakeCheck {
     prev: Previous,
     dt: f64,
@@ -240,7 +240,7 @@ fn golden_brake_and_contact_impulses_of_the_first_second() {
 struct WindowLog {
     steps: Vec<(f64, f64, Option<f64>)>,
     /// Largest `|x − centre of mass|`: `x` is the robot's centre of mass (the flywheel
-    /// pivots there, physics.md §5.3).
+    /// pivots there, docs/physics.md §5.3).
     max_com_offset: f64,
 }
 
@@ -268,7 +268,7 @@ impl Observer for WindowLog {
 /// The summary's figures over the window (the last `speed_window` s: from the first step
 /// ending at or after `duration − speed_window`, brakes in the steps ending after it)
 /// recomputed from the run's own states and brakes: mean speed = CoM distance / window, the
-/// window's distance, brakes and `Σζ` (physics.md §5.3; hopsim-studies makes Robbit's brakes
+/// window's distance, brakes and `Σζ` (docs/physics.md §5.3; hopsim-studies makes Robbit's brakes
 /// per second and `Σζ / distance` of them).
 #[test]
 fn summary_window_figures_follow_from_the_run() {

@@ -14,7 +14,7 @@ pub struct TorqueCommand {
     pub torque: f64,
 }
 
-/// A generalised force in the joint of `body` (a joint motor, physics.md §7): a torque on
+/// A generalised force in the joint of `body` (a joint motor, docs/physics.md §7): a torque on
 /// `body` with its reaction on the parent (revolute, N m), or a force along the axis with
 /// its reaction on the parent (prismatic, N).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,7 +25,7 @@ pub struct JointForceCommand {
     pub force: f64,
 }
 
-/// An impulse applied within the step (physics.md §3, [2.22]).
+/// An impulse applied within the step (docs/physics.md §3, [2.22]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ImpulseCommand {
     /// A translational impulse `ζ` (world frame, N s) at the material point of `body` at

@@ -1,4 +1,4 @@
-//! The Moreau midpoint time-stepper of physics.md §4 (Glocker/Studer).
+//! The Moreau midpoint time-stepper of docs/physics.md §4 (Glocker/Studer).
 //!
 //! One [`Stepper::step`] advances a [`State`] by `Δt`: midpoint configuration, index set
 //! of closed contacts, the frictional contact LCP solved by Lemke's method, velocity and

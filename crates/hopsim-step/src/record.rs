@@ -2,7 +2,7 @@
 
 use hopsim_model::Vec2;
 
-/// Contact status over a step (physics.md §4).
+/// Contact status over a step (docs/physics.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ContactState {
     /// In the index set but carrying no normal percussion: separating.
@@ -56,7 +56,7 @@ pub struct LockRecord {
     pub impulse: f64,
 }
 
-/// One closed joint stop of a step (`g(q^M) ≤ 0`, physics.md §7).
+/// One closed joint stop of a step (`g(q^M) ≤ 0`, docs/physics.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LimitRecord {
     /// Index into the model's joint stops (`Model::limits`).
@@ -73,7 +73,7 @@ pub struct LimitRecord {
     pub impulse: f64,
 }
 
-/// Running energy account of a simulation (physics.md §6), J.
+/// Running energy account of a simulation (docs/physics.md §6), J.
 ///
 /// `kinetic + potential + spring - initial = actuator_work + contact_work + limit_work +
 /// lock_work + damping_work + balance_error`, the works being those of the step impulses over the
@@ -140,7 +140,7 @@ pub struct StepRecord {
     pub t: f64,
     /// The terrain contacts of the index set (`contact` indexes `Model::contacts`).
     pub contacts: Vec<ContactRecord>,
-    /// The body–body contacts of the index set (physics.md §7): `contact` indexes
+    /// The body–body contacts of the index set (docs/physics.md §7): `contact` indexes
     /// `Model::pairs`, `point` is the probe's point `p_B`, `normal` points from the target
     /// (A) to the probe (B), and the percussions act on B (their opposites on A).
     pub pair_contacts: Vec<ContactRecord>,

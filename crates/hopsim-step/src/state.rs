@@ -2,7 +2,7 @@
 
 use nalgebra::DVector;
 
-/// Time, generalised coordinates `q` and velocities `u` (physics.md §1).
+/// Time, generalised coordinates `q` and velocities `u` (docs/physics.md §1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
     /// Time, s.

@@ -1,4 +1,4 @@
-//! One step of the Moreau midpoint scheme of physics.md §4, as a pipeline of named stages
+//! One step of the Moreau midpoint scheme of docs/physics.md §4, as a pipeline of named stages
 //! (see [`Stepper::step`]).
 
 use crate::linalg::{axpy, dot, Factor};
@@ -90,7 +90,7 @@ pub enum StepError {
 
 /// The time-stepper: reused buffers for one model, so a step allocates nothing.
 ///
-/// One [`Stepper::step`] is physics.md §4 as a pipeline of stages, listed in its doc. `M` is
+/// One [`Stepper::step`] is docs/physics.md §4 as a pipeline of stages, listed in its doc. `M` is
 /// factored as `L D Lᵀ`, never inverted: only the products `G W` and `G (h Δt + …)` are
 /// needed, so they are computed by solves with that factor; impulsive locks `Bᵀ u^E = 0`
 /// replace `G = M⁻¹` by `G − G B (Bᵀ G B)⁻¹ Bᵀ G` and `ũ` by its projection. The
@@ -149,7 +149,7 @@ pub struct Stepper {
     lambda_t: Vec<f64>,
     /// `ξ_T` of each closed contact (NaN after the frictionless fallback, until `u^E`).
     slip: Vec<f64>,
-    /// Closed joint stops (physics.md §7): their indices into `Model::limits`, gaps, rows
+    /// Closed joint stops (docs/physics.md §7): their indices into `Model::limits`, gaps, rows
     /// `w = ±∂s/∂q` (row-major `l × n`), `γ^A = wᵀ u^A` and percussions.
     active_limits: Vec<usize>,
     limit_gap: Vec<f64>,
@@ -266,7 +266,7 @@ impl Stepper {
     }
 
     /// Keeps the energy account of the record ([`StepRecord::energy`]: the energies at the
-    /// end of each step and the cumulative works, physics.md §6.1) or not (on by default).
+    /// end of each step and the cumulative works, docs/physics.md §6.1) or not (on by default).
     /// Nothing in a step reads it, so a run that nobody watches for energies can skip its
     /// cost; switched off, `record().energy` keeps the values of [`Stepper::start`]. The
     /// gaps and the lock impulses of the record are kept either way. Switch it before a
@@ -316,7 +316,7 @@ impl Stepper {
         self.record.max_penetration = (-min_gap).max(0.0);
     }
 
-    /// Advances `state` by one step `Δt` under `actuation`: physics.md §4 as nine stages,
+    /// Advances `state` by one step `Δt` under `actuation`: docs/physics.md §4 as nine stages,
     /// run in this order and numbered the same in the body (`// Stage k`), in each stage's
     /// doc and in docs/architecture.md ("One step, in order"):
     ///
@@ -368,7 +368,7 @@ impl Stepper {
         Ok(&self.record)
     }
 
-    /// Stage 1, physics.md §4.1 step 1: the midpoint `q^M = q^A + Δt/2 u^A`; keeps `u^A`
+    /// Stage 1, docs/physics.md §4.1 step 1: the midpoint `q^M = q^A + Δt/2 u^A`; keeps `u^A`
     /// for the later stages (the state is overwritten in stage 8).
     #[inline]
     fn midpoint(&mut self, state: &State) {
@@ -380,7 +380,7 @@ impl Stepper {
         self.u_start.copy_from_slice(u);
     }
 
-    /// Stage 2, physics.md §4.1 step 2: the kinematics at `(q^M, u^A)`, `M(q^M)` and its
+    /// Stage 2, docs/physics.md §4.1 step 2: the kinematics at `(q^M, u^A)`, `M(q^M)` and its
     /// `L D Lᵀ` factor, `h(q^M, u^A)` split into the damping forces and the rest, with the
     /// motor torques as the applied forces.
     #[inline]
@@ -418,7 +418,7 @@ impl Stepper {
         Ok(())
     }
 
-    /// Stage 3: the generalised applied impulses at `q^M` (physics.md §3, `J_iᵀ ζ`) and the
+    /// Stage 3: the generalised applied impulses at `q^M` (docs/physics.md §3, `J_iᵀ ζ`) and the
     /// velocity locks `Bᵀ u^E = 0`, prepared for eliminating their percussion (§4.4).
     #[inline]
     fn impulses_and_locks(
@@ -457,7 +457,7 @@ impl Stepper {
         Ok(())
     }
 
-    /// Stage 4, physics.md §4.1 step 2: the index set `H` (enabled contacts with
+    /// Stage 4, docs/physics.md §4.1 step 2: the index set `H` (enabled contacts with
     /// `g_N(q^M) ≤ 0`) with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`, and the closed
     /// joint stops (`g(q^M) ≤ 0`, §7) with their rows `w = ±∂s/∂q` and `γ^A`; returns the
     /// number `k` of closed contacts.
@@ -519,7 +519,7 @@ impl Stepper {
         self.geometry.push(geometry);
     }
 
-    /// Stage 5, physics.md §4.3 and §4.4: `ũ = u^A + G (h Δt + impulses)` and `G W_N`,
+    /// Stage 5, docs/physics.md §4.3 and §4.4: `ũ = u^A + G (h Δt + impulses)` and `G W_N`,
     /// `G W_T` of the `k` closed contacts (and `G w` of the closed joint stops) in one solve with `M`'s factor, then projected
     /// onto the locks (`G ← G − G B (Bᵀ G B)⁻¹ Bᵀ G`, `ũ` likewise).
     #[inline]
@@ -554,7 +554,7 @@ impl Stepper {
         self.locks.project(&mut self.u_tilde);
     }
 
-    /// Stage 6, physics.md §4.1 step 3: builds and solves the frictional contact LCP of
+    /// Stage 6, docs/physics.md §4.1 step 3: builds and solves the frictional contact LCP of
     /// §4.3 for the index set (nothing to solve when it is empty); an uncertified solve
     /// falls back to [`Stepper::solve_frictionless_lcp`] or, in strict mode, is an error
     /// (§4.5).
@@ -568,7 +568,7 @@ impl Stepper {
             return Ok(());
         }
         let size = 3 * k + l;
-        // A (column-major, leading dimension `ld`) and b of physics.md §4.3.
+        // A (column-major, leading dimension `ld`) and b of docs/physics.md §4.3.
         let ld = self.lcp_a.nrows();
         let a = self.lcp_a.as_mut_slice();
         for column in a.chunks_exact_mut(ld).take(size) {
@@ -647,7 +647,7 @@ impl Stepper {
         self.solve_frictionless_lcp(k, step, t)
     }
 
-    /// The rows and columns of the `l` closed joint stops in the LCP of §4.3 (physics.md
+    /// The rows and columns of the `l` closed joint stops in the LCP of §4.3 (docs/physics.md
     /// §7): unknowns `Λ_J` after `(Λ_N, Λ_R, ξ_L)`, frictionless normal rows
     /// `ξ_J = w_Jᵀ u^E + ε γ_J^A ⟂ Λ_J`, with `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)`.
     fn limit_rows(&mut self, model: &Model, k: usize, l: usize) {
@@ -734,7 +734,7 @@ impl Stepper {
         Ok(())
     }
 
-    /// Stage 7, physics.md §4.1 step 4: `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)` and the
+    /// Stage 7, docs/physics.md §4.1 step 4: `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)` and the
     /// records of the `k` closed contacts and the closed joint stops.
     #[inline]
     fn end_velocity(&mut self, model: &Model, k: usize) {
@@ -820,7 +820,7 @@ impl Stepper {
         }
     }
 
-    /// Stage 8, physics.md §4.1 step 5: `q^E = q^M + Δt/2 u^E`, `u^E` and `t^E` into `state`
+    /// Stage 8, docs/physics.md §4.1 step 5: `q^E = q^M + Δt/2 u^E`, `u^E` and `t^E` into `state`
     /// (`t_start`, the start time `t` of the first step, plus `step Δt`), checked, and the
     /// kinematics at `(q^E, u^E)` (for the controller and the ledger).
     #[inline]
@@ -854,7 +854,7 @@ impl Stepper {
         Ok(())
     }
 
-    /// Stage 9, for observers only (physics.md §6.1): the step's works and lock impulses
+    /// Stage 9, for observers only (docs/physics.md §6.1): the step's works and lock impulses
     /// ([`Stepper::add_works`]), then the energies and the gaps at the end of the step;
     /// without the energy account ([`Stepper::set_ledger`]) only the lock impulses and the
     /// gaps.
@@ -875,7 +875,7 @@ impl Stepper {
         self.fill_gaps(model);
     }
 
-    /// Adds the step's works to the ledger (physics.md §6.1): each percussion times
+    /// Adds the step's works to the ledger (docs/physics.md §6.1): each percussion times
     /// `(u^A + u^E)/2`; and the velocity-lock impulses `P` (from
     /// `M (u^E − u^A) = h Δt + impulses + W Λ + B P`, §4.4) to the record.
     fn add_works(&mut self, actuation: &Actuation) {
@@ -911,7 +911,7 @@ impl Stepper {
     }
 
     /// The generalised lock force `B P = M (u^E − u^A) − h Δt − impulses − W Λ` of the
-    /// step (physics.md §4.4), into `force` (which held `h Δt + impulses`).
+    /// step (docs/physics.md §4.4), into `force` (which held `h Δt + impulses`).
     fn lock_force(&mut self) {
         let n = self.n;
         let k = self.active.len();
@@ -954,7 +954,7 @@ fn row(data: &[f64], n: usize, i: usize) -> &[f64] {
     &data[i * n..(i + 1) * n]
 }
 
-/// The velocity locks (brakes) of one step, `Bᵀ u^E = 0` (physics.md §4.4): row-major
+/// The velocity locks (brakes) of one step, `Bᵀ u^E = 0` (docs/physics.md §4.4): row-major
 /// `l × n` buffers with the rows `b_c = ∂(θ_body − θ_other)/∂q` of `Bᵀ` and
 /// `y_c = M⁻¹ b_c`, the factor of `S = Bᵀ M⁻¹ B` and an `l`-vector.
 struct Locks {

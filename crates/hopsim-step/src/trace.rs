@@ -74,8 +74,11 @@ pub struct TraceDifference {
     pub expected: f64,
     /// Value in the other trace (0 if it has no such sample).
     pub found: f64,
-    /// Number of differing samples (`(step, channel)` pairs) in all.
+    /// Number of differing samples in all (a sample: one channel at one step, both its
+    /// components; see [`ImpulseTrace::compared_samples`]).
     pub count: usize,
+    /// Number of samples compared ([`ImpulseTrace::compared_samples`]).
+    pub samples: usize,
     /// Largest absolute difference over all samples.
     pub max_abs: f64,
 }
@@ -85,7 +88,7 @@ impl std::fmt::Display for TraceDifference {
         write!(
             f,
             "first difference at step {} (t = {:.6} s), {} {}: expected {:e}, found {:e} \
-             ({} differing samples, largest difference {:e})",
+             ({} of {} samples differ, largest difference {:e})",
             self.step,
             self.t,
             self.channel,
@@ -93,6 +96,7 @@ impl std::fmt::Display for TraceDifference {
             self.expected,
             self.found,
             self.count,
+            self.samples,
             self.max_abs
         )
     }
@@ -255,8 +259,11 @@ impl ImpulseTrace {
         })
     }
 
-    /// The samples a comparison of `self` with `other` looks at: the distinct
-    /// `(step, channel)` pairs of both traces.
+    /// The number of samples a comparison of `self` with `other` looks at. A sample is one
+    /// channel (contact, joint stop or lock) at one step, with its normal and tangential
+    /// percussion: the distinct `(step, channel)` pairs of both traces (a pair on one side
+    /// only counts once, as zero on the other). Both "N samples" of `hopsim compare` and the
+    /// differing count of [`TraceDifference`] count these.
     pub fn compared_samples(&self, other: &Self) -> usize {
         sample_keys(self, other).len()
     }
@@ -296,6 +303,7 @@ impl ImpulseTrace {
                     expected: x,
                     found: y,
                     count: 0,
+                    samples: 0,
                     max_abs: 0.0,
                 });
             }
@@ -303,6 +311,7 @@ impl ImpulseTrace {
         }
         first.map(|d| TraceDifference {
             count,
+            samples: self.compared_samples(other),
             max_abs,
             ..d
         })
@@ -425,6 +434,9 @@ mod tests {
             (1, "c", "normal")
         );
         assert_eq!(d.count, 3);
+        // The differing samples are counted like the compared ones.
+        assert_eq!(d.samples, a.compared_samples(&b));
+        assert!(d.to_string().contains("(3 of 3 samples differ"), "{d}");
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! Applied impulses in free flight (physics.md §3, [2.22]): a step changes the velocities
+//! Applied impulses in free flight (docs/physics.md §3, [2.22]): a step changes the velocities
 //! by gravity `g Δt` plus exactly `M⁻¹ Jᵀ ζ`, with `M` and the Jacobians written out by
 //! hand here for a single rigid body and for Robbit (a flywheel on an absolute joint).
 

@@ -1,6 +1,6 @@
-//! Contacts between bodies (physics.md §7) in the step: two discs colliding head-on and
+//! Contacts between bodies (docs/physics.md §7) in the step: two discs colliding head-on and
 //! obliquely against the closed-form impact map with restitution `ε` and friction `μ`
-//! (physics.md §3), momentum conservation, energy dissipation, and a disc on a fixed body
+//! (docs/physics.md §3), momentum conservation, energy dissipation, and a disc on a fixed body
 //! moving exactly as on the same terrain.
 
 mod common;
@@ -44,7 +44,7 @@ impl Discs {
         model
     }
 
-    /// The closed-form impact map of one frictional contact between the discs (physics.md
+    /// The closed-form impact map of one frictional contact between the discs (docs/physics.md
     /// §3 with the §4 laws, `ε_T = 0`), with the normal `n` (A → B) from the centres at
     /// the step's midpoint `q^M = q^A + Δt/2 u^A`. For discs `G_NT = 0`:
     /// `Λ_N = −(1 + ε) γ_N / G_NN`; sticking `Λ_T = −γ_T / G_TT` if `|Λ_T| ≤ μ Λ_N`, else
@@ -262,7 +262,7 @@ fn momentum_is_kept_and_energy_only_dissipated() {
     );
 }
 
-/// physics.md §7: a target fixed to the world reproduces the terrain contacts. A disc
+/// docs/physics.md §7: a target fixed to the world reproduces the terrain contacts. A disc
 /// dropped spinning onto a fixed body's box, whose top face is `y = 0`, moves exactly as
 /// the same disc on flat ground `y = 0` with the same material (bounces, slips, rolls).
 #[test]

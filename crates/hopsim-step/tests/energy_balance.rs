@@ -1,4 +1,4 @@
-//! The energy ledger closes (physics.md §6) over a long run with every kind of flow: a
+//! The energy ledger closes (docs/physics.md §6) over a long run with every kind of flow: a
 //! two-body hopper with a relative joint, damped springs (one an extension spring), joint
 //! damping, motor torque pulses, applied impulses, a brake and frictional contacts that
 //! switch on and off (a cane).

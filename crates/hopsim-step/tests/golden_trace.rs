@@ -1,6 +1,6 @@
 //! Golden contact-impulse trace of a short eccentric-disc drop and roll.
 //!
-//! The disc of physics.md §2 (`R = 0.2 m`, `a = 0.1 m`, Robbit's mass and locked
+//! The disc of docs/physics.md §2 (`R = 0.2 m`, `a = 0.1 m`, Robbit's mass and locked
 //! inertia, `μ = 1`, `ε = 0`) is dropped from 3 cm moving forward and spinning fast; it
 //! touches down sliding, rolls, is flung off the ground by its whirling eccentric mass
 //! (`ε = 0`: no bounce from restitution), lands again and rolls; 0.5 s at `Δt = 5e-4 s`. Every

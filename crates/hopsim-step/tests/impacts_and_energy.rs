@@ -1,4 +1,4 @@
-//! Impacts against the closed-form impact map of physics.md §3, dissipation, the energy
+//! Impacts against the closed-form impact map of docs/physics.md §3, dissipation, the energy
 //! ledger and the scheme's convergence.
 
 mod common;
@@ -14,7 +14,7 @@ const R: f64 = 0.2;
 const A: f64 = 0.1;
 
 /// `Λ = -(J M⁻¹ Jᵀ)⁻¹ J u⁻` and `ΔE = ½ u⁻ᵀ M_c u⁻` for the eccentric disc touching down
-/// without slip, with `J = [w_Tᵀ; w_Nᵀ]` of physics.md §2 written out independently.
+/// without slip, with `J = [w_Tᵀ; w_Nᵀ]` of docs/physics.md §2 written out independently.
 fn closed_form_touchdown(phi: f64, u: Vector3<f64>) -> (f64, f64, f64) {
     let j = Matrix2x3::new(1.0, 0.0, R - A * phi.cos(), 0.0, 1.0, -A * phi.sin());
     let m_inv = Matrix3::from_diagonal(&Vector3::new(1.0 / M, 1.0 / M, 1.0 / I));
@@ -275,7 +275,7 @@ fn robbit_brake_exchanges_momentum_and_the_energy_balance_closes() {
     );
 }
 
-/// Reference: the no-slip rolling ODE of physics.md §2 with `T = 0`, integrated by RK4.
+/// Reference: the no-slip rolling ODE of docs/physics.md §2 with `T = 0`, integrated by RK4.
 fn rolling_reference(phi0: f64, t_end: f64) -> f64 {
     let f = |phi: f64, w: f64| {
         -(M * G * A * phi.sin() + M * A * R * w * w * phi.sin())

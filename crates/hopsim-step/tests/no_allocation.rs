@@ -181,7 +181,7 @@ fn stepping_robbit_with_contacts_torque_and_a_brake_does_not_allocate() {
     );
 }
 
-/// A point-foot hopper on a sprung prismatic leg with a stop (physics.md §7): touchdowns,
+/// A point-foot hopper on a sprung prismatic leg with a stop (docs/physics.md §7): touchdowns,
 /// stance and the stop's impacts at lift-off in the same LCP allocate nothing.
 #[test]
 fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
@@ -240,7 +240,7 @@ fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
     );
 }
 
-/// Contacts between bodies (physics.md §7): three discs and a box dropped onto a fixed
+/// Contacts between bodies (docs/physics.md §7): three discs and a box dropped onto a fixed
 /// floor and onto each other, every pair a candidate; impacts, resting stacks and sliding
 /// allocate nothing.
 #[test]

@@ -1,4 +1,4 @@
-//! Robbit's periodic gaits and their stability (physics.md §5.3, docs/analysis.md §9): the
+//! Robbit's periodic gaits and their stability (docs/physics.md §5.3, docs/analysis.md §9): the
 //! fixed-point controls `β* = (T*, ζ0*)` of the return map at one section state or over a
 //! grid of take-off angle `φ_TO` × take-off energy `E_TO`, with the eigenvalues of the
 //! return-map Jacobian, and optionally the time-stepper run from rest with a stable `β*`

@@ -1,4 +1,4 @@
-//! A gait cycle by cycle (physics.md §5.3, §5.4; the thesis' Fig. 5.11).
+//! A gait cycle by cycle (docs/physics.md §5.3, §5.4; the thesis' Fig. 5.11).
 //!
 //! A run of a scene ([`trace_of_scene`]) or a recording of one ([`trace_of_recording`],
 //! an MCAP written by `hopsim run --mcap`) is cut into cycles ([`CycleSplit`]): at every
@@ -661,7 +661,7 @@ impl GaitReport {
                 .unlabelled()
         };
         let panel = |label: &str, rows: &[Vec<f64>], mean: &[f64]| {
-            let plot = LinePlot::new("", "cycle progress [%]", label).with_x_range(0.0, 100.0);
+            let plot = LinePlot::new("", "cycle progress (%)", label).with_x_range(0.0, 100.0);
             rows.iter()
                 .fold(plot, |plot, row| {
                     plot.with_series(curve(row, PALETTE[0], 1))
@@ -676,9 +676,9 @@ impl GaitReport {
                 self.split.short()
             ),
             vec![
-                panel("x − x(start) [m]", &p.x, &p.mean_x),
-                panel("y [m]", &p.y, &p.mean_y),
-                panel("φ [rad]", &p.phi, &p.mean_phi),
+                panel("x − x(start) (m)", &p.x, &p.mean_x),
+                panel("y (m)", &p.y, &p.mean_y),
+                panel("φ (rad)", &p.phi, &p.mean_phi),
             ],
         )
     }
@@ -692,7 +692,7 @@ impl GaitReport {
                 .iter()
                 .map(|c| (c.index as f64, value(c)))
                 .collect();
-            LinePlot::new("", "cycle", format!("{label} [{unit}]")).with_series(
+            LinePlot::new("", "cycle number", format!("{label} ({unit})")).with_series(
                 Series::line("", points)
                     .style(SeriesStyle::LineAndPoints)
                     .unlabelled(),
@@ -715,7 +715,7 @@ impl GaitReport {
             .map(|p| p.1)
             .filter(|r| r.is_finite())
             .fold(1.0, f64::max);
-        let bottom = LinePlot::new("", "p [cycles]", "residual r_p (1 = tolerance)")
+        let bottom = LinePlot::new("", "lag p (cycles)", "residual r_p (1 = tolerance)")
             .with_x_range(0.5, n + 0.5)
             .with_y_range(0.0, 1.1 * top_residual)
             .with_series(Series::points("r_p", residuals).color(PALETTE[3]).size(6))

@@ -1,4 +1,4 @@
-//! The impulsive wheel's take-off-angle return map (physics.md §5.5): the fixed point and
+//! The impulsive wheel's take-off-angle return map (docs/physics.md §5.5): the fixed point and
 //! its eigenvalue for one impulse, the stable impulse interval, iteration series, and
 //! (as files) the bifurcation diagram over the impulse.
 
@@ -191,8 +191,8 @@ impl ImpulsiveWheelReport {
         }
         let mut plot = LinePlot::new(
             format!("impulsive wheel: take-off angle after {TRANSIENT} iterations (mod π)"),
-            "impulse ‖ζ‖ [N s]",
-            "φ [rad]",
+            "impulse ‖ζ‖ (N s)",
+            "take-off angle φ (rad)",
         )
         .with_y_range(-FRAC_PI_2, FRAC_PI_2)
         .with_series(
@@ -233,7 +233,7 @@ impl ImpulsiveWheelReport {
         let mut plot = LinePlot::new(
             "impulsive wheel: iteration series",
             "iteration i",
-            "φ_i [rad]",
+            "take-off angle φ_i (rad)",
         );
         for (k, s) in self.series.iter().enumerate() {
             for (i, &phi) in s.takeoff_angles.iter().enumerate() {
@@ -246,7 +246,7 @@ impl ImpulsiveWheelReport {
                 .map(|(i, &p)| (i as f64, p))
                 .collect();
             plot = plot.with_series(
-                Series::line(format!("‖ζ‖ = {}", s.impulse_n_s), points)
+                Series::line(format!("‖ζ‖ = {} N s", s.impulse_n_s), points)
                     .style(SeriesStyle::LineAndPoints)
                     .color(PALETTE[k % PALETTE.len()]),
             );
@@ -262,7 +262,7 @@ impl Report for ImpulsiveWheelReport {
     fn text(&self) -> String {
         let (w, fp) = (&self.wheel, &self.fixed_point);
         let (lo, hi) = self.stable_impulse_interval;
-        let mut t = Table::new("impulsive wheel return map (physics.md §5.5)");
+        let mut t = Table::new("impulsive wheel return map (docs/physics.md §5.5)");
         t.row(
             "m, R, I",
             nums(&[(w.mass, "kg"), (w.radius, "m"), (w.inertia, "kg m²")]),

@@ -11,7 +11,7 @@
 //!   the overlay of the last cycles (Fig. 5.11).
 //! * [`run_summary`]: a scene's run and its summary with the controller's sections;
 //!   [`sweep`]: a scene over a grid of parameters, with its CSV and figure.
-//! * [`template`], [`obstacle`], [`impulsive_wheel`]: the reduced models of physics.md
+//! * [`template`], [`obstacle`], [`impulsive_wheel`]: the reduced models of docs/physics.md
 //!   §5.1, §5.2 and §5.5 as studies.
 //! * [`progress`]: how studies report progress over their grids.
 

@@ -1,4 +1,4 @@
-//! Energy to get a wheel over a wall (physics.md §5.2): the cost of rolling, of a trivial
+//! Energy to get a wheel over a wall (docs/physics.md §5.2): the cost of rolling, of a trivial
 //! hop and of a rotational hop at one operating point; optionally the costs against speed
 //! and the maps of the cheapest strategy over `α × Fr` and over body mass × speed.
 
@@ -331,8 +331,8 @@ impl ObstacleReport {
                 self.comparison.height_m / self.wheel.radius,
                 self.wheel.radius
             ),
-            "approach speed u_x [m/s]",
-            "cost [J]",
+            "approach speed u_x (m/s)",
+            "cost (J)",
         )
         .with_series(Series::line("rolling", rolling).color(PALETTE[0]))
         .with_series(Series::line("trivial hop", trivial).color(PALETTE[1]))
@@ -347,8 +347,14 @@ impl ObstacleReport {
         let (ratio, tag) = (r.height_ratio, height_tag(r.height_ratio));
         let alpha_froude = category_map(
             format!("cheapest way over a wall, h/R = {ratio}"),
-            ("α = I / (m R²)", maps.inertia_factors.clone()),
-            ("log10 Fr", log10(&maps.froudes)),
+            (
+                "inertia factor α = I / (m R²)",
+                maps.inertia_factors.clone(),
+            ),
+            (
+                "log10 of Froude number Fr = u² / (g R)",
+                log10(&maps.froudes),
+            ),
             &r.inertia_froude,
         );
         // Fr = 1 line of the allometric wheel: u = sqrt(g R(m)).
@@ -362,8 +368,8 @@ impl ObstacleReport {
             .collect();
         let mass_speed = category_map(
             format!("cheapest way over a wall of h = {ratio} R(m), allometric wheel"),
-            ("log10 body mass [kg]", log10(&maps.masses_kg)),
-            ("log10 speed [m/s]", log10(&maps.speeds_mps)),
+            ("log10 of body mass (kg)", log10(&maps.masses_kg)),
+            ("log10 of approach speed (m/s)", log10(&maps.speeds_mps)),
             &r.mass_speed,
         )
         .with_overlay(Series::line("Fr = 1", fr_one).color(BLACK));
@@ -386,7 +392,7 @@ impl Report for ObstacleReport {
     fn text(&self) -> String {
         let (w, cmp) = (&self.wheel, &self.comparison);
         let unit = cmp.energy_unit_j;
-        let mut t = Table::new("wheel over a wall (physics.md §5.2)");
+        let mut t = Table::new("wheel over a wall (docs/physics.md §5.2)");
         t.row(
             "m, R, I",
             nums(&[(w.mass, "kg"), (w.radius, "m"), (w.inertia, "kg m²")]),

@@ -1,30 +1,62 @@
 //! Reusable figures: line plots, heatmaps (with blank cells and a colour bar) and category
-//! maps, written as PNG and SVG (plotters), atomically.
+//! maps, written as PNG and SVG (plotters), atomically, in one style:
+//!
+//! - print resolution: 2400 × 1600 pixels by default (8 × 5⅓ in at 300 dpi), with fonts,
+//!   line widths and markers scaled to match ([`SCALE`]);
+//! - titles wrapped to the figure's width (never cut at the edge), axis labels in words
+//!   with SI units in parentheses, e.g. `mean speed (m/s)`;
+//! - tick labels without trailing zeros (`10`, not `10.0`) and never `-0`;
+//! - y ranges robust to outliers: a few points far outside the rest are drawn as
+//!   triangles at the edge of the plot, with a legend entry giving their values,
+//!   instead of flattening every other point;
+//! - legends whose markers are the ones drawn, placed inside the plot only where they
+//!   cover no data, else beside the plot.
 //!
 //! ```no_run
 //! use hopsim_studies::plot::{Heatmap, LinePlot, Series, write_png_and_svg};
-//! let plot = LinePlot::new("speed", "hop", "speed [m/s]")
+//! let plot = LinePlot::new("speed", "hop", "speed (m/s)")
 //!     .with_series(Series::line("run 1", vec![(0.0, 0.1), (1.0, 0.2)]));
 //! write_png_and_svg(&plot, std::path::Path::new("out/speed")).unwrap(); // out/speed.png + .svg
-//! let map = Heatmap::new("cost", "x", "y", "CoT", vec![0.0, 1.0], vec![0.0, 1.0],
-//!     vec![Some(1.0), None, Some(2.0), Some(3.0)]);
+//! let map = Heatmap::new("cost", "x (m)", "y (m)", "cost of transport", vec![0.0, 1.0],
+//!     vec![0.0, 1.0], vec![Some(1.0), None, Some(2.0), Some(3.0)]);
 //! write_png_and_svg(&map, std::path::Path::new("out/cost")).unwrap();
 //! ```
 //!
 //! A new kind of figure implements [`Figure`] (drawing on any plotters backend) and gets
-//! PNG/SVG output from [`write_png`], [`write_svg`] and [`write_png_and_svg`].
+//! PNG/SVG output from [`write_png_and_svg`] and [`stage_png_and_svg`].
 
 use crate::error::{Result, StudyError};
 use hopsim_io::{AtomicPath, IoError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::{Path, PathBuf};
 
-/// Default figure size in pixels.
-pub const DEFAULT_SIZE: (u32, u32) = (960, 640);
+/// Default figure size in pixels: 8 × 5⅓ inches at 300 dpi.
+pub const DEFAULT_SIZE: (u32, u32) = (2400, 1600);
+
+/// Pixels per design unit: font sizes, line widths, marker sizes and margins are given for
+/// a 960-pixel-wide figure and multiplied by this factor.
+pub const SCALE: f64 = DEFAULT_SIZE.0 as f64 / 960.0;
+
+/// `v` design units in pixels.
+fn px(v: f64) -> i32 {
+    (v * SCALE).round() as i32
+}
+
+/// `v` design units in pixels, unsigned.
+fn upx(v: f64) -> u32 {
+    px(v).max(0) as u32
+}
 
 /// Font family of all text.
 const FONT: &str = "sans-serif";
+
+/// Font sizes in design units: title, axis descriptions, tick labels and legend.
+const TITLE_FONT: f64 = 22.0;
+const AXIS_FONT: f64 = 17.0;
+const TICK_FONT: f64 = 15.0;
+const LEGEND_FONT: f64 = 15.0;
 
 /// Error text of a drawing step.
 pub type DrawResult = std::result::Result<(), String>;
@@ -38,7 +70,6 @@ pub trait Figure {
     /// Draws the figure on `root` (already sized; not yet filled).
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult;
 }
-
 /// Draws `figure` as a PNG file into a temporary file for `path`, committed by the caller.
 fn stage_png<F: Figure>(figure: &F, path: &Path) -> Result<AtomicPath> {
     let output = AtomicPath::create(path)?;
@@ -124,8 +155,13 @@ pub struct Series {
     pub style: SeriesStyle,
     /// Colour (None: next colour of the palette).
     pub color: Option<RGBColor>,
-    /// Dot size or line width in pixels.
+    /// Dot radius or line width in design units (pixels of a 960-pixel-wide figure,
+    /// scaled by [`SCALE`]).
     pub size: u32,
+    /// Whether the series' points set the automatic y range (false: points outside the
+    /// range of the other series are drawn at the edge, e.g. results that did not
+    /// converge).
+    pub sets_range: bool,
 }
 
 impl Series {
@@ -137,6 +173,7 @@ impl Series {
             style: SeriesStyle::Line,
             color: None,
             size: 2,
+            sets_range: true,
         }
     }
 
@@ -148,6 +185,7 @@ impl Series {
             style: SeriesStyle::Points,
             color: None,
             size: 3,
+            sets_range: true,
         }
     }
 
@@ -163,9 +201,15 @@ impl Series {
         self
     }
 
-    /// Sets the dot size / line width.
+    /// Sets the dot radius / line width (design units).
     pub fn size(mut self, size: u32) -> Self {
         self.size = size;
+        self
+    }
+
+    /// Leaves the series out of the automatic y range ([`Series::sets_range`]).
+    pub fn without_range(mut self) -> Self {
+        self.sets_range = false;
         self
     }
 
@@ -244,6 +288,231 @@ fn padded(range: Option<(f64, f64)>, fraction: f64) -> (f64, f64) {
     }
 }
 
+/// Tukey's fences are this many interquartile ranges beyond the quartiles.
+const FENCE_IQRS: f64 = 3.0;
+
+/// At most this fraction of the points may lie outside the fences to be drawn as outliers
+/// (more are data, and the range covers them).
+const MAX_OUTLIER_FRACTION: f64 = 0.05;
+
+/// Tukey's outer fences of the finite `values`: the quartiles ∓ [`FENCE_IQRS`]
+/// interquartile ranges (None without finite values; the full range if the quartiles
+/// coincide).
+fn tukey_fences(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let mut v: Vec<f64> = values.filter(|v| v.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    let full = (*v.first()?, *v.last()?);
+    let quantile = |q: f64| {
+        let pos = q * (v.len() - 1) as f64;
+        let (i, f) = (pos.floor() as usize, pos.fract());
+        v[i] + f * (v[(i + 1).min(v.len() - 1)] - v[i])
+    };
+    let (q1, q3) = (quantile(0.25), quantile(0.75));
+    let iqr = q3 - q1;
+    Some(match iqr > 0.0 {
+        true => (q1 - FENCE_IQRS * iqr, q3 + FENCE_IQRS * iqr),
+        false => full,
+    })
+}
+
+/// The range of the finite `values` that a few far outliers do not stretch. Outliers lie
+/// outside Tukey's outer fences ([`FENCE_IQRS`] interquartile ranges beyond the quartiles)
+/// and farther from the values inside them than those values span; if more than
+/// [`MAX_OUTLIER_FRACTION`] of the values lie outside the fences, none is an outlier.
+/// `None` without finite values.
+pub fn robust_range(values: impl Iterator<Item = f64> + Clone) -> Option<(f64, f64)> {
+    let fence = tukey_fences(values.clone())?;
+    let finite = || values.clone().filter(|v| v.is_finite());
+    let inside = || finite().filter(|x| *x >= fence.0 && *x <= fence.1);
+    let (n, outside) = (finite().count(), finite().count() - inside().count());
+    if outside as f64 > MAX_OUTLIER_FRACTION * n as f64 {
+        return finite_range(finite());
+    }
+    // Only values at least the inner values' span away from them are outliers: a peak
+    // just above the rest is data.
+    let (lo, hi) = finite_range(inside())?;
+    let span = hi - lo;
+    finite_range(finite().filter(|x| *x >= lo - span && *x <= hi + span))
+}
+
+/// The automatic y range of `series`: the [`robust_range`] of the series that set the
+/// range, widened to the points of the others that lie within their Tukey fences (the
+/// robust range of all points if no series sets it).
+fn auto_y_range(series: &[Series]) -> Option<(f64, f64)> {
+    let ys = |sets: bool| {
+        (series.iter().filter(move |s| s.sets_range == sets))
+            .flat_map(|s| s.points.iter())
+            .filter(|p| p.0.is_finite())
+            .map(|p| p.1)
+    };
+    let Some(base) = robust_range(ys(true)) else {
+        return robust_range(ys(false));
+    };
+    let fence = tukey_fences(ys(true)).unwrap_or(base);
+    let extra = finite_range(ys(false).filter(|y| *y >= fence.0 && *y <= fence.1));
+    Some(match extra {
+        Some((lo, hi)) => (base.0.min(lo), base.1.max(hi)),
+        None => base,
+    })
+}
+
+/// A tick label for `value` on an axis whose ticks are about `step` apart: as many
+/// decimals as the step needs, without trailing zeros (`10`, `0.25`), never `-0`.
+pub fn tick_label(value: f64, step: f64) -> String {
+    if !value.is_finite() {
+        return format!("{value}");
+    }
+    let step = if step.is_finite() && step > 0.0 {
+        step
+    } else {
+        value.abs().max(1.0)
+    };
+    // Two more decimals than the step's leading digit, so that steps of 0.25 or 0.025
+    // print exactly; trailing zeros are dropped below.
+    let decimals = (2 - step.log10().floor() as i32).clamp(0, 15) as usize;
+    let magnitude = value.abs();
+    let text = if magnitude >= 1e6 || (magnitude > 0.0 && magnitude < 1e-4 && step < 1e-4) {
+        // Scientific notation, three significant digits.
+        let text = format!("{value:.2e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = trim_zeros(mantissa);
+        format!("{mantissa}e{exponent}")
+    } else {
+        trim_zeros(&format!("{value:.decimals$}"))
+    };
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
+    }
+}
+
+/// `text` (a decimal number) without trailing zeros after the point, nor a bare point.
+fn trim_zeros(text: &str) -> String {
+    match text.contains('.') {
+        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => text.to_string(),
+    }
+}
+
+/// `x` with three significant digits, without trailing zeros (axis labels, notes).
+pub fn three_significant_digits(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return tick_label(x, 1.0);
+    }
+    let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+    if x.abs() >= 1e6 || x.abs() < 1e-4 {
+        return tick_label(x, x.abs() * 1e-3);
+    }
+    tick_label(
+        format!("{x:.decimals$}").parse().unwrap_or(x),
+        10f64.powi(-(decimals as i32)),
+    )
+}
+
+/// Ticks plotters draws on an axis (its default label count).
+const TICKS: f64 = 10.0;
+
+/// The approximate distance between the ticks plotters chooses on `range`.
+fn tick_step((lo, hi): (f64, f64)) -> f64 {
+    let raw = (hi - lo).abs() / TICKS;
+    if !(raw > 0.0 && raw.is_finite()) {
+        return 1.0;
+    }
+    // plotters steps by 1, 2 or 5 × 10^k, at least the raw step.
+    let k = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * k)
+        .find(|s| *s >= raw * (1.0 - 1e-9))
+        .unwrap_or(10.0 * k)
+}
+
+fn text_style(size: f64) -> TextStyle<'static> {
+    TextStyle::from((FONT, px(size) as f64).into_font())
+}
+
+/// The pixel size of `text` in `style` on `area` (a generous estimate if the backend cannot
+/// measure it).
+fn text_size<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    style: &TextStyle,
+) -> (i32, i32) {
+    area.estimate_text_size(text, style)
+        .map(|(w, h)| (w as i32, h as i32))
+        .unwrap_or_else(|_| {
+            let size = style.font.get_size();
+            (
+                (0.6 * size * text.chars().count() as f64) as i32,
+                size as i32,
+            )
+        })
+}
+
+/// `text` broken into lines at spaces so that each fits `width` pixels in `style` (a word
+/// longer than the width stays whole on its own line).
+fn wrap<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    style: &TextStyle,
+    width: i32,
+) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        match lines.last_mut() {
+            Some(line) if text_size(area, &format!("{line} {word}"), style).0 <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
+}
+
+/// A font size (design units) at most `size` at which each of `lines` fits `width` pixels.
+fn fitting_size<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    lines: &[String],
+    size: f64,
+    width: i32,
+) -> f64 {
+    let widest = lines
+        .iter()
+        .map(|l| text_size(area, l, &text_style(size)).0)
+        .max()
+        .unwrap_or(0);
+    if widest <= width || widest == 0 {
+        size
+    } else {
+        size * width as f64 / widest as f64 * 0.98
+    }
+}
+
+/// Draws `title` at the top of `area`, wrapped (and if need be shrunk) to its width, and
+/// returns the area below it.
+fn draw_title<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> std::result::Result<DrawingArea<DB, Shift>, String> {
+    let (w, _) = area.dim_in_pixel();
+    let width = w as i32 - 2 * px(12.0);
+    let lines = wrap(area, title, &text_style(TITLE_FONT), width);
+    if lines.is_empty() {
+        return Ok(area.clone().margin(upx(4.0), 0, 0, 0));
+    }
+    let size = fitting_size(area, &lines, TITLE_FONT, width);
+    let style = text_style(size).pos(Pos::new(HPos::Center, VPos::Top));
+    let line_height = (text_size(area, "Ag", &style).1 as f64 * 1.2).ceil() as i32;
+    let top = px(8.0);
+    for (i, line) in lines.iter().enumerate() {
+        area.draw_text(line, &style, (w as i32 / 2, top + i as i32 * line_height))
+            .map_err(|e| e.to_string())?;
+    }
+    let height = top + lines.len() as i32 * line_height + px(4.0);
+    Ok(area.split_vertically(height).1)
+}
+
 /// A chart with linear `f64` axes, as every figure here draws.
 type Chart<'a, DB> = ChartContext<
     'a,
@@ -251,25 +520,24 @@ type Chart<'a, DB> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-/// The chart of a figure on `area`: the caption `title` above, room for the axis labels.
+/// The chart of a figure on `area` (below its title), with room for the axis labels.
 fn chart<'a, DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    title: &str,
+    area: &'a DrawingArea<DB, Shift>,
     x_range: (f64, f64),
     y_range: (f64, f64),
 ) -> std::result::Result<Chart<'a, DB>, String> {
     ChartBuilder::on(area)
-        .caption(title, (FONT, 24))
-        .margin(12)
-        .margin_right(28)
-        .x_label_area_size(48)
-        .y_label_area_size(72)
+        .margin(upx(12.0))
+        .margin_right(upx(28.0))
+        .x_label_area_size(upx(50.0))
+        .y_label_area_size(upx(78.0))
         .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
         .map_err(|e| e.to_string())
 }
 
-/// Draws the axes with their labels; `grid` adds light grid lines (maps cover them);
-/// `log_x`: the chart's x coordinate is `log10 x`, labelled with `x`.
+/// Draws the axes with their labels (shrunk to fit the axis if long) and clean tick
+/// labels; `grid` adds light grid lines (maps cover them); `log_x`: the chart's x coordinate
+/// is `log10 x`, labelled with `x`.
 fn draw_axes<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     x_label: &str,
@@ -277,95 +545,357 @@ fn draw_axes<DB: DrawingBackend>(
     grid: bool,
     log_x: bool,
 ) -> DrawResult {
+    let (x_range, y_range) = {
+        let spec = chart.as_coord_spec();
+        let (x, y) = (spec.x_spec().range(), spec.y_spec().range());
+        ((x.start, x.end), (y.start, y.end))
+    };
+    let (x_step, y_step) = (tick_step(x_range), tick_step(y_range));
+    let area = chart.plotting_area().strip_coord_spec();
+    let (w, h) = area.dim_in_pixel();
+    let axis_size =
+        |label: &str, room: u32| fitting_size(&area, &[label.to_string()], AXIS_FONT, room as i32);
+    let (x_size, y_size) = (axis_size(x_label, w), axis_size(y_label, h));
+    let x_format = |v: &f64| match log_x {
+        true => three_significant_digits(10f64.powf(*v)),
+        false => tick_label(*v, x_step),
+    };
+    let y_format = |v: &f64| tick_label(*v, y_step);
     let mut mesh = chart.configure_mesh();
     if grid {
-        mesh.light_line_style(RGBColor(235, 235, 235));
+        mesh.light_line_style(RGBColor(235, 235, 235))
+            .bold_line_style(RGBColor(215, 215, 215).stroke_width(upx(1.0)));
     } else {
         mesh.disable_mesh();
     }
-    let log_label = |v: &f64| three_significant_digits(10f64.powf(*v));
-    if log_x {
-        mesh.x_label_formatter(&log_label);
-    }
-    mesh.x_desc(x_label)
+    mesh.x_label_formatter(&x_format)
+        .y_label_formatter(&y_format)
+        .x_desc(x_label)
         .y_desc(y_label)
-        .label_style((FONT, 15))
-        .axis_desc_style((FONT, 17))
+        .label_style(text_style(TICK_FONT))
+        .x_label_style(text_style(TICK_FONT))
+        .axis_desc_style(text_style(x_size.min(y_size)))
+        .axis_style(BLACK.stroke_width(upx(1.0)))
+        .set_all_tick_mark_size(upx(5.0))
         .draw()
         .map_err(|e| e.to_string())
 }
 
-/// `x` with three significant digits, without trailing zeros (axis labels).
-fn three_significant_digits(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
-    let text = format!("{x:.decimals$}");
-    match text.contains('.') {
-        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
-        false => text,
+/// The marker a series or a legend entry is drawn with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Marker {
+    Line,
+    Dot,
+    LineAndDot,
+    Cross,
+    /// Off-scale points: a triangle at the plot's edge, pointing out of it.
+    Triangle,
+    /// A map's cell.
+    Square,
+}
+
+impl Marker {
+    fn of(style: SeriesStyle) -> Self {
+        match style {
+            SeriesStyle::Line => Marker::Line,
+            SeriesStyle::Points => Marker::Dot,
+            SeriesStyle::Crosses => Marker::Cross,
+            SeriesStyle::LineAndPoints => Marker::LineAndDot,
+        }
     }
 }
 
-/// Draws the legend (one row per entry of `labels`) in the place of the plotting area that
-/// covers the fewest points of `avoid`: the upper right corner unless another place covers
-/// fewer.
-fn draw_legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
-    labels: &[&str],
-    avoid: &[Series],
+/// The radius in pixels of a dot of a series of `style` and `size` (design units).
+fn dot_radius(style: SeriesStyle, size: u32) -> i32 {
+    let size = size.max(1) as f64;
+    match style {
+        SeriesStyle::LineAndPoints => px(size + 1.0),
+        SeriesStyle::Crosses => px(size.max(3.0)),
+        _ => px(size),
+    }
+}
+
+/// Draws one marker centred at pixel `(x, y)` of `area` (`up`: a triangle points up).
+fn draw_marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    marker: Marker,
+    (x, y): (i32, i32),
+    radius: i32,
+    width: u32,
+    color: RGBColor,
+    up: bool,
 ) -> DrawResult {
-    // The legend's size as plotters lays it out: text rows of the 15 px font, a 30 px
-    // symbol column and 10 px margins (estimated, with a little room to spare).
-    let widest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as i32;
-    let (w, h) = (widest * 8 + 60, labels.len() as i32 * 19 + 24);
-    let (area_w, area_h) = chart.plotting_area().dim_in_pixel();
-    let (xs, ys) = chart.plotting_area().get_pixel_range();
-    let pixels: Vec<(i32, i32)> = avoid
+    let stroke = color.stroke_width(width.max(1));
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    match marker {
+        Marker::Dot => area
+            .draw(&Circle::new((x, y), radius, color.filled()))
+            .map_err(e),
+        Marker::Cross => {
+            let r = radius;
+            area.draw(&PathElement::new(
+                vec![(x - r, y - r), (x + r, y + r)],
+                stroke,
+            ))
+            .map_err(e)?;
+            area.draw(&PathElement::new(
+                vec![(x - r, y + r), (x + r, y - r)],
+                stroke,
+            ))
+            .map_err(e)
+        }
+        Marker::Triangle => {
+            let (r, s) = (radius, if up { -1 } else { 1 });
+            let points = vec![(x, y + s * r), (x - r, y - s * r), (x + r, y - s * r)];
+            area.draw(&Polygon::new(points, color.filled())).map_err(e)
+        }
+        Marker::Square => area
+            .draw(&Rectangle::new(
+                [(x - radius, y - radius), (x + radius, y + radius)],
+                color.filled(),
+            ))
+            .map_err(e),
+        Marker::Line | Marker::LineAndDot => {
+            let half = px(12.0);
+            area.draw(&PathElement::new(
+                vec![(x - half, y), (x + half, y)],
+                stroke,
+            ))
+            .map_err(e)?;
+            if marker == Marker::LineAndDot {
+                area.draw(&Circle::new((x, y), radius, color.filled()))
+                    .map_err(e)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// One row of a legend.
+#[derive(Debug, Clone)]
+struct LegendEntry {
+    label: String,
+    marker: Marker,
+    color: RGBColor,
+    /// Marker radius and line width in pixels.
+    radius: i32,
+    width: u32,
+}
+
+impl LegendEntry {
+    fn of(series: &Series, color: RGBColor) -> Option<Self> {
+        Some(LegendEntry {
+            label: series.label.clone()?,
+            marker: Marker::of(series.style),
+            color,
+            radius: dot_radius(series.style, series.size),
+            width: px(series.size.max(1) as f64).max(1) as u32,
+        })
+    }
+
+    fn square(label: &str, color: RGBColor) -> Self {
+        LegendEntry {
+            label: label.to_string(),
+            marker: Marker::Square,
+            color,
+            radius: px(7.0),
+            width: 1,
+        }
+    }
+}
+
+/// The legend's box: padding, symbol column and row height in pixels.
+struct LegendLayout {
+    pad: i32,
+    symbol: i32,
+    row: i32,
+    size: (i32, i32),
+}
+
+fn legend_layout<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+) -> LegendLayout {
+    let style = text_style(LEGEND_FONT);
+    let (pad, symbol) = (px(8.0), px(34.0));
+    let row = (text_size(area, "Ag", &style).1 as f64 * 1.35).ceil() as i32;
+    let widest = entries
         .iter()
-        .flat_map(|s| s.points.iter())
-        .filter(|(x, y)| x.is_finite() && y.is_finite())
-        .map(|p| chart.backend_coord(p))
-        .map(|(x, y)| (x - xs.start, y - ys.start))
-        .collect();
-    let (right, bottom) = (area_w as i32 - w - 5, area_h as i32 - h - 5);
-    let (middle_x, middle_y) = ((area_w as i32 - w) / 2, (area_h as i32 - h) / 2);
+        .map(|e| text_size(area, &e.label, &style).0)
+        .max()
+        .unwrap_or(0);
+    LegendLayout {
+        pad,
+        symbol,
+        row,
+        size: (
+            2 * pad + symbol + widest + px(4.0),
+            2 * pad + row * entries.len() as i32,
+        ),
+    }
+}
+
+/// Draws the legend box with its top left corner at pixel `origin` of `area`.
+fn draw_legend_box<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+    layout: &LegendLayout,
+    (x0, y0): (i32, i32),
+) -> DrawResult {
+    let (w, h) = layout.size;
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    area.draw(&Rectangle::new(
+        [(x0, y0), (x0 + w, y0 + h)],
+        WHITE.mix(0.9).filled(),
+    ))
+    .map_err(e)?;
+    area.draw(&Rectangle::new(
+        [(x0, y0), (x0 + w, y0 + h)],
+        RGBColor(90, 90, 90).stroke_width(upx(1.0)),
+    ))
+    .map_err(e)?;
+    let style = text_style(LEGEND_FONT).pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, entry) in entries.iter().enumerate() {
+        let y = y0 + layout.pad + layout.row * i as i32 + layout.row / 2;
+        let x = x0 + layout.pad + layout.symbol / 2;
+        draw_marker(
+            area,
+            entry.marker,
+            (x, y),
+            entry.radius,
+            entry.width,
+            entry.color,
+            true,
+        )?;
+        area.draw_text(
+            &entry.label,
+            &style,
+            (x0 + layout.pad + layout.symbol + px(4.0), y),
+        )
+        .map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Where in a plotting area of `dim` pixels a legend box of `size` pixels covers none of
+/// the data `pixels` (relative to the area): the first free place of the upper right,
+/// upper left, upper middle, lower right, lower left, lower middle, middle right and middle
+/// left corners; `None` if every place covers data.
+pub fn free_legend_place(
+    dim: (i32, i32),
+    size: (i32, i32),
+    pixels: &[(i32, i32)],
+) -> Option<(i32, i32)> {
+    let (w, h) = size;
+    let gap = px(6.0);
+    if w + 2 * gap > dim.0 || h + 2 * gap > dim.1 {
+        return None;
+    }
+    let (right, bottom) = (dim.0 - w - gap, dim.1 - h - gap);
+    let (middle_x, middle_y) = ((dim.0 - w) / 2, (dim.1 - h) / 2);
     let places = [
-        (right, 5),
-        (5, 5),
-        (middle_x, 5),
+        (right, gap),
+        (gap, gap),
+        (middle_x, gap),
         (right, bottom),
-        (5, bottom),
+        (gap, bottom),
         (middle_x, bottom),
         (right, middle_y),
-        (5, middle_y),
+        (gap, middle_y),
     ];
-    let covered = |&(x0, y0): &(i32, i32)| {
-        pixels
+    // A margin around the box, so that no marker (up to 7 design units across, the
+    // off-scale triangles at the plot's edge) touches its border.
+    let m = px(10.0);
+    places.into_iter().find(|&(x0, y0)| {
+        !pixels
             .iter()
-            .filter(|(x, y)| (x0..=x0 + w).contains(x) && (y0..=y0 + h).contains(y))
-            .count()
-    };
-    // The first place with the fewest covered points.
-    let (x, y) = places
-        .iter()
-        .min_by_key(|p| covered(p))
-        .copied()
-        .unwrap_or((right, 5));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::Coordinate(x, y))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 15))
-        .draw()
-        .map_err(|e| e.to_string())
+            .any(|&(x, y)| (x0 - m..=x0 + w + m).contains(&x) && (y0 - m..=y0 + h + m).contains(&y))
+    })
 }
 
-/// The labels of the labelled series.
-fn labels(series: &[Series]) -> Vec<&str> {
-    series.iter().filter_map(|s| s.label.as_deref()).collect()
+/// Where a legend outside the chart goes.
+enum LegendSpot {
+    /// In a column right of the chart.
+    Right,
+    /// In a band under the chart.
+    Below,
+}
+
+/// A legend that does not fit inside the plot goes into a column at the right if it is at
+/// most this fraction of the figure's width, else into a band below.
+const RIGHT_LEGEND_FRACTION: f64 = 0.3;
+
+/// Splits `body` into the chart's area and the area of a legend of `layout` beside it.
+#[allow(clippy::type_complexity)]
+fn split_for_legend<DB: DrawingBackend>(
+    body: &DrawingArea<DB, Shift>,
+    layout: &LegendLayout,
+) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>, LegendSpot) {
+    let (w, h) = body.dim_in_pixel();
+    let (lw, lh) = layout.size;
+    if (lw as f64) <= RIGHT_LEGEND_FRACTION * w as f64 {
+        let (chart, legend) = body.split_horizontally(w as i32 - lw - px(16.0));
+        (chart, legend, LegendSpot::Right)
+    } else {
+        let (chart, legend) = body.split_vertically(h as i32 - lh - px(10.0));
+        (chart, legend, LegendSpot::Below)
+    }
+}
+
+/// Draws a legend in the area `split_for_legend` set aside for it.
+fn draw_outside_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+    layout: &LegendLayout,
+    spot: LegendSpot,
+) -> DrawResult {
+    let (w, h) = area.dim_in_pixel();
+    let origin = match spot {
+        // Level with the top of the plotting area.
+        LegendSpot::Right => (px(4.0), (px(12.0)).min(h as i32 - layout.size.1).max(0)),
+        _ => ((w as i32 - layout.size.0).max(0) / 2, px(2.0)),
+    };
+    draw_legend_box(area, entries, layout, origin)
+}
+
+/// Pixels (relative to the plotting area) that the data of `series` cover: every point
+/// (off-scale ones at the edge of `y_range`), and points along the lines every few pixels.
+fn data_pixels<DB: DrawingBackend>(
+    chart: &Chart<'_, DB>,
+    series: &[Series],
+    y_range: (f64, f64),
+) -> Vec<(i32, i32)> {
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let to_pixel = |p: &(f64, f64)| {
+        let (x, y) = chart.backend_coord(&(p.0, p.1.clamp(y_range.0, y_range.1)));
+        (x - xs.start, y - ys.start)
+    };
+    let step = px(3.0).max(1) as f64;
+    let mut pixels = Vec::new();
+    for s in series {
+        let finite: Vec<(i32, i32)> = s
+            .points
+            .iter()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(to_pixel)
+            .collect();
+        pixels.extend(&finite);
+        if matches!(s.style, SeriesStyle::Line | SeriesStyle::LineAndPoints) {
+            for w in finite.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let d = ((b.0 - a.0) as f64).hypot((b.1 - a.1) as f64);
+                let n = (d / step).ceil() as i32;
+                for k in 1..n {
+                    let t = k as f64 / n as f64;
+                    pixels.push((
+                        a.0 + (t * (b.0 - a.0) as f64) as i32,
+                        a.1 + (t * (b.1 - a.1) as f64) as i32,
+                    ));
+                }
+            }
+        }
+    }
+    pixels
 }
 
 /// Checks that the `figure` has `len = nx × ny > 0` `cells`.
@@ -379,40 +909,22 @@ fn check_grid(figure: &str, cells: &str, nx: usize, ny: usize, len: usize) -> Dr
     Ok(())
 }
 
+/// Draws `series` on `chart`; points whose y lies outside `y_range` are drawn as triangles
+/// at the edge they lie beyond (lines break there).
 fn draw_series<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     series: &Series,
-    default_color: RGBColor,
+    color: RGBColor,
+    y_range: (f64, f64),
 ) -> DrawResult {
-    let color = series.color.unwrap_or(default_color);
     let size = series.size.max(1);
-    let finite: Vec<(f64, f64)> = series
-        .points
-        .iter()
-        .copied()
-        .filter(|(x, y)| x.is_finite() && y.is_finite())
-        .collect();
-    let mut legend_drawn = false;
-    let label = |anno: &mut plotters::chart::SeriesAnno<'_, DB>, style: SeriesStyle| {
-        if let Some(text) = &series.label {
-            anno.label(text.clone());
-            match style {
-                SeriesStyle::Points | SeriesStyle::Crosses => {
-                    anno.legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
-                }
-                _ => {
-                    anno.legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
-                }
-            }
-        }
-    };
+    let width = px(size as f64).max(1) as u32;
+    let inside = |y: f64| y >= y_range.0 && y <= y_range.1;
     if matches!(series.style, SeriesStyle::Line | SeriesStyle::LineAndPoints) {
-        // Break the polyline at non-finite points.
+        // Break the polyline at non-finite and off-scale points.
         let mut segments: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
         for &(x, y) in &series.points {
-            if x.is_finite() && y.is_finite() {
+            if x.is_finite() && y.is_finite() && inside(y) {
                 if let Some(segment) = segments.last_mut() {
                     segment.push((x, y));
                 }
@@ -421,49 +933,117 @@ fn draw_series<DB: DrawingBackend>(
             }
         }
         for segment in segments.into_iter().filter(|s| !s.is_empty()) {
-            let anno = chart
-                .draw_series(LineSeries::new(segment, color.stroke_width(size)))
+            chart
+                .draw_series(LineSeries::new(segment, color.stroke_width(width)))
                 .map_err(|e| e.to_string())?;
-            if !legend_drawn {
-                label(anno, SeriesStyle::Line);
-                legend_drawn = true;
-            }
         }
     }
-    if matches!(
-        series.style,
-        SeriesStyle::Points | SeriesStyle::LineAndPoints
-    ) {
-        let radius = if series.style == SeriesStyle::LineAndPoints {
-            size + 1
-        } else {
-            size
-        };
-        let anno = chart
-            .draw_series(
-                finite
-                    .iter()
-                    .map(|&p| Circle::new(p, radius, color.filled())),
-            )
-            .map_err(|e| e.to_string())?;
-        if !legend_drawn {
-            label(anno, SeriesStyle::Points);
-            legend_drawn = true;
+    let area = chart.plotting_area().strip_coord_spec();
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let radius = dot_radius(series.style, size);
+    let marker = Marker::of(series.style);
+    for &(x, y) in &series.points {
+        if !(x.is_finite() && y.is_finite()) {
+            continue;
         }
-    }
-    if series.style == SeriesStyle::Crosses {
-        let anno = chart
-            .draw_series(
-                finite
-                    .iter()
-                    .map(|&p| Cross::new(p, size.max(3), color.stroke_width(2))),
-            )
-            .map_err(|e| e.to_string())?;
-        if !legend_drawn {
-            label(anno, SeriesStyle::Crosses);
+        let (mut px_x, mut px_y) = chart.backend_coord(&(x, y.clamp(y_range.0, y_range.1)));
+        px_x -= xs.start;
+        px_y -= ys.start;
+        if !inside(y) {
+            draw_marker(
+                &area,
+                Marker::Triangle,
+                (px_x, px_y),
+                px(7.0),
+                1,
+                color,
+                y > y_range.1,
+            )?;
+        } else if matches!(marker, Marker::Dot | Marker::LineAndDot | Marker::Cross) {
+            let marker = if marker == Marker::LineAndDot {
+                Marker::Dot
+            } else {
+                marker
+            };
+            draw_marker(&area, marker, (px_x, px_y), radius, width, color, true)?;
         }
     }
     Ok(())
+}
+
+/// Grey of the off-scale note.
+const OFF_SCALE_COLOR: RGBColor = RGBColor(90, 90, 90);
+
+/// The legend entry for the finite points of `series` outside `y_range` (None if none is):
+/// how many and their values.
+fn off_scale_entry(series: &[Series], y_range: (f64, f64)) -> Option<LegendEntry> {
+    let off: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|(x, y)| x.is_finite() && y.is_finite() && (*y < y_range.0 || *y > y_range.1))
+        .map(|p| p.1)
+        .collect();
+    let (lo, hi) = finite_range(off.iter().copied())?;
+    let values = match lo == hi {
+        true => three_significant_digits(lo),
+        false => format!(
+            "{} to {}",
+            three_significant_digits(lo),
+            three_significant_digits(hi)
+        ),
+    };
+    let points = if off.len() == 1 { "point" } else { "points" };
+    Some(LegendEntry {
+        label: format!("{} {points} off scale, y = {values}", off.len()),
+        marker: Marker::Triangle,
+        color: OFF_SCALE_COLOR,
+        radius: px(7.0),
+        width: 1,
+    })
+}
+
+/// Draws a chart of `series` (colours `colors`) with axes and the legend `entries` on
+/// `body`: the legend inside the plotting area where it covers no data, else beside it.
+#[allow(clippy::too_many_arguments)]
+fn draw_line_chart<DB: DrawingBackend>(
+    body: &DrawingArea<DB, Shift>,
+    (x_label, y_label, log_x): (&str, &str, bool),
+    series: &[Series],
+    colors: &[RGBColor],
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+    entries: &[LegendEntry],
+) -> DrawResult {
+    let layout = legend_layout(body, entries);
+    let place = match entries.is_empty() {
+        true => None,
+        false => {
+            let trial = chart(body, x_range, y_range)?;
+            let (w, h) = trial.plotting_area().dim_in_pixel();
+            let pixels = data_pixels(&trial, series, y_range);
+            free_legend_place((w as i32, h as i32), layout.size, &pixels)
+        }
+    };
+    let (chart_area, outside) = match (entries.is_empty(), place) {
+        (false, None) => {
+            let (chart_area, legend_area, spot) = split_for_legend(body, &layout);
+            (chart_area, Some((legend_area, spot)))
+        }
+        _ => (body.clone(), None),
+    };
+    let mut chart = chart(&chart_area, x_range, y_range)?;
+    draw_axes(&mut chart, x_label, y_label, true, log_x)?;
+    for (s, color) in series.iter().zip(colors) {
+        draw_series(&mut chart, s, *color, y_range)?;
+    }
+    match (place, outside) {
+        (Some(place), _) if !entries.is_empty() => {
+            let area = chart.plotting_area().strip_coord_spec();
+            draw_legend_box(&area, entries, &layout, place)
+        }
+        (_, Some((area, spot))) => draw_outside_legend(&area, entries, &layout, spot),
+        _ => Ok(()),
+    }
 }
 
 /// A 2-D line / scatter plot with a legend.
@@ -556,18 +1136,24 @@ impl Figure for LinePlot {
             Some((lo, hi)) => (to_chart(lo), to_chart(hi)),
             None => padded(finite_range(all().map(|p| p.0)), 0.03),
         };
-        let y_range = self
-            .y_range
-            .unwrap_or_else(|| padded(finite_range(all().map(|p| p.1)), 0.05));
-        let mut chart = chart(root, &self.title, x_range, y_range)?;
-        draw_axes(&mut chart, &self.x_label, &self.y_label, true, self.log_x)?;
-        for (i, series) in series.iter().enumerate() {
-            draw_series(&mut chart, series, PALETTE[i % PALETTE.len()])?;
-        }
-        if self.series.iter().any(|s| s.label.is_some()) {
-            draw_legend(&mut chart, &labels(&series), &series)?;
-        }
-        Ok(())
+        let y_range = (self.y_range).unwrap_or_else(|| padded(auto_y_range(&series), 0.05));
+        let colors: Vec<RGBColor> = (series.iter().enumerate())
+            .map(|(i, s)| s.color.unwrap_or(PALETTE[i % PALETTE.len()]))
+            .collect();
+        let mut entries: Vec<LegendEntry> = (series.iter().zip(&colors))
+            .filter_map(|(s, c)| LegendEntry::of(s, *c))
+            .collect();
+        entries.extend(off_scale_entry(&series, y_range));
+        let body = draw_title(root, &self.title)?;
+        draw_line_chart(
+            &body,
+            (&self.x_label, &self.y_label, self.log_x),
+            &series,
+            &colors,
+            x_range,
+            y_range,
+            &entries,
+        )
     }
 }
 
@@ -605,9 +1191,7 @@ impl Figure for PlotStack {
             return Err("a plot stack needs at least one panel".into());
         }
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let body = root
-            .titled(&self.title, (FONT, 22))
-            .map_err(|e| e.to_string())?;
+        let body = draw_title(root, &self.title)?;
         let areas = body.split_evenly((self.panels.len(), 1));
         for (panel, area) in self.panels.iter().zip(&areas) {
             panel.draw(area)?;
@@ -753,7 +1337,22 @@ impl Figure for Heatmap {
         let (nx, ny) = (self.x.len(), self.y.len());
         check_grid("heatmap", "values", nx, ny, self.values.len())?;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let (main, bar) = root.split_horizontally(self.size.0.saturating_sub(130));
+        let body = draw_title(root, &self.title)?;
+        let colors = overlay_colors(&self.overlays, 3);
+        let entries: Vec<LegendEntry> = (self.overlays.iter().zip(&colors))
+            .filter_map(|(s, c)| LegendEntry::of(s, *c))
+            .collect();
+        // The legend beside the map (inside, it would hide cells).
+        let layout = legend_layout(&body, &entries);
+        let (body, legend) = match entries.is_empty() {
+            true => (body, None),
+            false => {
+                let (chart_area, legend_area, spot) = split_for_legend(&body, &layout);
+                (chart_area, Some((legend_area, spot)))
+            }
+        };
+        let (w, _) = body.dim_in_pixel();
+        let (main, bar) = body.split_horizontally(w as i32 - px(130.0));
         let grid = CellGrid::new(&self.x, &self.y);
         let value = |v: &Option<f64>| v.filter(|v| v.is_finite());
         let (lo, hi) = self
@@ -762,33 +1361,46 @@ impl Figure for Heatmap {
             .unwrap_or((0.0, 1.0));
         let span = if hi > lo { hi - lo } else { 1.0 };
         let (x_range, y_range) = grid.ranges();
-        let mut chart = chart(&main, &self.title, x_range, y_range)?;
+        let mut chart = chart(&main, x_range, y_range)?;
         draw_axes(&mut chart, &self.x_label, &self.y_label, false, false)?;
         let cells = grid.cells().filter_map(|(k, rect)| {
             value(&self.values[k]).map(|v| Rectangle::new(rect, viridis((v - lo) / span).filled()))
         });
         chart.draw_series(cells).map_err(|e| e.to_string())?;
-        for (i, series) in self.overlays.iter().enumerate() {
-            draw_series(&mut chart, series, PALETTE[(i + 3) % PALETTE.len()])?;
+        for (series, color) in self.overlays.iter().zip(&colors) {
+            draw_series(&mut chart, series, *color, y_range)?;
         }
-        if self.overlays.iter().any(|s| s.label.is_some()) {
-            draw_legend(&mut chart, &labels(&self.overlays), &self.overlays)?;
+        if let Some((area, spot)) = legend {
+            draw_outside_legend(&area, &entries, &layout, spot)?;
         }
-        // Colour bar.
+        // Colour bar, level with the map.
         let mut bar_chart = ChartBuilder::on(&bar)
-            .margin_top(52)
-            .margin_bottom(60)
-            .margin_right(8)
-            .y_label_area_size(70)
+            .margin_top(upx(12.0))
+            .margin_bottom(upx(12.0 + 50.0))
+            .margin_right(upx(8.0))
+            .y_label_area_size(upx(75.0))
             .build_cartesian_2d(0.0..1.0, lo..(lo + span))
             .map_err(|e| e.to_string())?;
+        let bar_step = tick_step((lo, lo + span));
+        let bar_format = |v: &f64| tick_label(*v, bar_step);
+        let (_, bar_h) = bar_chart.plotting_area().dim_in_pixel();
+        let bar_area = bar_chart.plotting_area().strip_coord_spec();
+        let label_size = fitting_size(
+            &bar_area,
+            &[self.value_label.clone()],
+            AXIS_FONT - 2.0,
+            bar_h as i32,
+        );
         bar_chart
             .configure_mesh()
             .disable_mesh()
             .disable_x_axis()
+            .y_label_formatter(&bar_format)
             .y_desc(&self.value_label)
-            .label_style((FONT, 13))
-            .axis_desc_style((FONT, 15))
+            .label_style(text_style(TICK_FONT - 2.0))
+            .axis_desc_style(text_style(label_size))
+            .axis_style(BLACK.stroke_width(upx(1.0)))
+            .set_all_tick_mark_size(upx(5.0))
             .draw()
             .map_err(|e| e.to_string())?;
         let steps = 100;
@@ -873,6 +1485,7 @@ impl Figure for CategoryMap {
         let (nx, ny) = (self.x.len(), self.y.len());
         check_grid("category map", "cells", nx, ny, self.cells.len())?;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let body = draw_title(root, &self.title)?;
         let grid = CellGrid::new(&self.x, &self.y);
         let color = |k: usize| {
             self.colors
@@ -880,33 +1493,39 @@ impl Figure for CategoryMap {
                 .and_then(|c| c.get(k).copied())
                 .unwrap_or(PALETTE[k % PALETTE.len()])
         };
+        let colors = overlay_colors(&self.overlays, self.categories.len());
+        let mut entries: Vec<LegendEntry> = (self.categories.iter().enumerate())
+            .map(|(k, name)| LegendEntry::square(name, color(k)))
+            .collect();
+        entries.extend(
+            (self.overlays.iter().zip(&colors)).filter_map(|(s, c)| LegendEntry::of(s, *c)),
+        );
+        // The legend beside the map (inside, it would hide cells).
+        let layout = legend_layout(&body, &entries);
+        let (chart_area, legend_area, spot) = split_for_legend(&body, &layout);
         let (x_range, y_range) = grid.ranges();
-        let mut chart = chart(root, &self.title, x_range, y_range)?;
+        let mut chart = chart(&chart_area, x_range, y_range)?;
         draw_axes(&mut chart, &self.x_label, &self.y_label, false, false)?;
-        for (k, name) in self.categories.iter().enumerate() {
+        for k in 0..self.categories.len() {
             let c = color(k);
             let rects = grid
                 .cells()
                 .filter(|&(i, _)| self.cells[i] == Some(k))
                 .map(|(_, rect)| Rectangle::new(rect, c.filled()));
-            chart
-                .draw_series(rects)
-                .map_err(|e| e.to_string())?
-                .label(name.clone())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.filled()));
+            chart.draw_series(rects).map_err(|e| e.to_string())?;
         }
-        for (i, series) in self.overlays.iter().enumerate() {
-            draw_series(
-                &mut chart,
-                series,
-                PALETTE[(i + self.categories.len()) % PALETTE.len()],
-            )?;
+        for (series, color) in self.overlays.iter().zip(&colors) {
+            draw_series(&mut chart, series, *color, y_range)?;
         }
-        let mut entries: Vec<&str> = self.categories.iter().map(String::as_str).collect();
-        entries.extend(labels(&self.overlays));
-        draw_legend(&mut chart, &entries, &self.overlays)?;
-        Ok(())
+        draw_outside_legend(&legend_area, &entries, &layout, spot)
     }
+}
+
+/// The colours of overlay series: their own, else the palette from entry `first`.
+fn overlay_colors(overlays: &[Series], first: usize) -> Vec<RGBColor> {
+    (overlays.iter().enumerate())
+        .map(|(i, s)| s.color.unwrap_or(PALETTE[(i + first) % PALETTE.len()]))
+        .collect()
 }
 
 #[cfg(test)]

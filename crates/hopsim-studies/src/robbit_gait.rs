@@ -1,4 +1,4 @@
-//! Robbit in the time-stepper (physics.md §4, §5.3): the cross-check of the reduced model
+//! Robbit in the time-stepper (docs/physics.md §4, §5.3): the cross-check of the reduced model
 //! of `hopsim_analysis::robbit` and `hopsim_analysis::fixed_points`.
 //!
 //! [`robbit_scene`] is `scenes/robbit.toml` (Robbit's one model) with the parameters, the
@@ -37,9 +37,9 @@ const OVERRIDE_SOURCE: &str = "Robbit's gait check";
 /// Settings of a time-stepper run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StepperSettings {
-    /// Step `Δt` [s] (physics.md §5.3: 2e-4).
+    /// Step `Δt` [s] (docs/physics.md §5.3: 2e-4).
     pub dt: f64,
-    /// Simulated time [s] (physics.md §5.3: 20).
+    /// Simulated time [s] (docs/physics.md §5.3: 20).
     pub duration: f64,
     /// The controller's rearm timeout [s]: a brake without a following touchdown restarts
     /// the cycle after this time.

@@ -1,4 +1,4 @@
-//! A scene's run and its summary (`hopsim run --summary FILE.json`, physics.md §6): the run
+//! A scene's run and its summary (`hopsim run --summary FILE.json`, docs/physics.md §6): the run
 //! loop's [`Summary`] with the sections the scene's controller calls for — Robbit's brakes
 //! and cube baselines (§5.3) for the momentum-impulse controller, the gait's period on the
 //! Poincaré section of §5.4 for the pulse controller.
@@ -15,7 +15,7 @@ use hopsim_sim::{
 use serde::Serialize;
 use std::fmt;
 
-/// The impulse-actuated cube of physics.md §5.3 [5.21] at the robot's mean speed.
+/// The impulse-actuated cube of docs/physics.md §5.3 [5.21] at the robot's mean speed.
 #[derive(Clone, Debug, Serialize)]
 pub struct CubeBaseline {
     /// The cube's face restitution `ε`.
@@ -25,7 +25,7 @@ pub struct CubeBaseline {
     pub impulse_per_distance: f64,
 }
 
-/// Robbit's figures (physics.md §5.3), over the summary window.
+/// Robbit's figures (docs/physics.md §5.3), over the summary window.
 #[derive(Clone, Debug, Serialize)]
 pub struct RobbitSummary {
     pub brakes_per_s: f64,
@@ -87,7 +87,7 @@ fn gait_section(scene: &Scene, t0: f64) -> Option<PoincareSection> {
     }
 }
 
-/// The cube Robbit is compared with (physics.md §5.3): the robot's mass, the flywheel's
+/// The cube Robbit is compared with (docs/physics.md §5.3): the robot's mass, the flywheel's
 /// parent's inertia `I_S`, and the radius `R` and eccentricity `a` of the circle that body
 /// carries; `None` unless the scene runs the momentum-impulse controller on a disc.
 pub fn robbit_cube(scene: &Scene) -> Option<Cube> {

@@ -1,7 +1,7 @@
 //! Parameter sweeps (docs/sweeps.md): a scene run over a grid of overrides, plus baseline
 //! runs, in parallel; one row of run-summary figures per run (`sweep.csv`) and a figure
 //! (`sweep.png`, `sweep.svg`). For Robbit the figure is the thesis' speed against
-//! transferred impulse with the cube baselines (physics.md §5.3, Fig. 5.7); for other scenes
+//! transferred impulse with the cube baselines (docs/physics.md §5.3, Fig. 5.7); for other scenes
 //! one figure against the first grid axis.
 
 use crate::plot::{LinePlot, RGBColor, Series, SeriesStyle, BLACK};
@@ -11,59 +11,78 @@ use crate::run_summary::{robbit_cube, run_scene, RunReport};
 use hopsim_analysis::cube::Cube;
 use hopsim_control::ControllerConfig;
 use hopsim_io::{Cell, CsvTable};
-use hopsim_scene::{Override, Scene, SceneError};
+use hopsim_scene::{axis_label, key_words, value_label, Override, Scene, SceneError};
 use hopsim_sim::{grid_jobs, GridAxis, SweepJob, SweepPoint};
 use serde::Serialize;
 use std::fmt::Write;
 use std::ops::Range;
 
-/// A run-summary figure: its CSV column name and how to read it.
-type Metric = (&'static str, fn(&RunReport) -> f64);
+/// A run-summary figure: its CSV column name, its axis label (words and unit) and how to
+/// read it.
+type Metric = (&'static str, &'static str, fn(&RunReport) -> f64);
 
 /// The run-summary figures a sweep reports, in CSV column order.
 const METRICS: &[Metric] = &[
-    ("distance_m", |r| r.summary.distance_m),
-    ("mean_speed_mps", |r| r.summary.mean_speed_mps),
-    ("hops", |r| r.summary.hops as f64),
-    ("distance_per_hop_m", |r| r.summary.distance_per_hop_m),
-    ("impulses_count", |r| r.summary.impulses.count as f64),
-    ("impulses_total_Nms", |r| r.summary.impulses.total),
-    ("impulse_per_distance_Nms_per_m", |r| {
-        r.summary.impulse_per_distance
+    ("distance_m", "distance (m)", |r| r.summary.distance_m),
+    ("mean_speed_mps", "mean speed (m/s)", |r| {
+        r.summary.mean_speed_mps
     }),
-    ("brakes_per_s", |r| {
+    ("hops", "hops", |r| r.summary.hops as f64),
+    ("distance_per_hop_m", "distance per hop (m)", |r| {
+        r.summary.distance_per_hop_m
+    }),
+    ("impulses_count", "impulses", |r| {
+        r.summary.impulses.count as f64
+    }),
+    ("impulses_total_Nms", "total impulse (N m s)", |r| {
+        r.summary.impulses.total
+    }),
+    (
+        "impulse_per_distance_Nms_per_m",
+        "impulse per distance (N m s/m)",
+        |r| r.summary.impulse_per_distance,
+    ),
+    ("brakes_per_s", "brakes per second (1/s)", |r| {
         r.robbit.as_ref().map_or(f64::NAN, |b| b.brakes_per_s)
     }),
-    ("window_impulse_per_distance_Nms_per_m", |r| {
-        r.robbit
-            .as_ref()
-            .map_or(f64::NAN, |b| b.impulse_per_distance)
-    }),
-    ("gait_period", |r| {
+    (
+        "window_impulse_per_distance_Nms_per_m",
+        "impulse per distance in the speed window (N m s/m)",
+        |r| {
+            r.robbit
+                .as_ref()
+                .map_or(f64::NAN, |b| b.impulse_per_distance)
+        },
+    ),
+    ("gait_period", "gait period (cycles)", |r| {
         r.gait
             .as_ref()
             .and_then(|g| g.period)
             .map_or(f64::NAN, |p| p as f64)
     }),
-    ("gait_residual", |r| {
+    ("gait_residual", "gait residual (1 = tolerance)", |r| {
         r.gait.as_ref().map_or(f64::NAN, |g| g.residual())
     }),
-    ("max_penetration_m", |r| r.summary.max_penetration_m),
-    ("energy_balance_error_J", |r| {
+    ("max_penetration_m", "largest penetration (m)", |r| {
+        r.summary.max_penetration_m
+    }),
+    ("energy_balance_error_J", "energy balance error (J)", |r| {
         r.summary.energy.max_abs_balance_error
     }),
-    ("lcp_failures", |r| r.summary.lcp.failures as f64),
-    ("wall_time_s", |r| r.summary.wall_time_s),
+    ("lcp_failures", "contact LCP failures", |r| {
+        r.summary.lcp.failures as f64
+    }),
+    ("wall_time_s", "wall time (s)", |r| r.summary.wall_time_s),
 ];
 
 /// `name` if it is one of the figures a sweep reports (the CSV columns after `error`).
 pub fn metric_name(name: &str) -> Result<String, String> {
     METRICS
         .iter()
-        .any(|(n, _)| *n == name)
+        .any(|(n, _, _)| *n == name)
         .then(|| name.to_string())
         .ok_or_else(|| {
-            let names: Vec<&str> = METRICS.iter().map(|(n, _)| *n).collect();
+            let names: Vec<&str> = METRICS.iter().map(|(n, _, _)| *n).collect();
             format!("unknown field '{name}'; one of: {}", names.join(", "))
         })
 }
@@ -72,8 +91,16 @@ pub fn metric_name(name: &str) -> Result<String, String> {
 fn metric(name: &str, run: &RunReport) -> f64 {
     METRICS
         .iter()
-        .find(|(n, _)| *n == name)
-        .map_or(f64::NAN, |(_, f)| f(run))
+        .find(|(n, _, _)| *n == name)
+        .map_or(f64::NAN, |(_, _, f)| f(run))
+}
+
+/// The axis label of the figure `name` (the name itself if unknown).
+fn metric_label(name: &str) -> &str {
+    METRICS
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map_or(name, |(_, label, _)| label)
 }
 
 /// An extra run drawn as a horizontal reference line: `NAME:KEY=VALUE[,KEY=VALUE…]`.
@@ -288,7 +315,7 @@ impl From<SweepPoint<RunReport>> for SweepRun {
     }
 }
 
-/// Robbit sweeps: the cube of physics.md §5.3 drawn for `ε = 0` and `restitution`.
+/// Robbit sweeps: the cube of docs/physics.md §5.3 drawn for `ε = 0` and `restitution`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CubeCurves {
     /// `None` when the main body is not a disc.
@@ -322,7 +349,7 @@ impl SweepReport {
         let mut header: Vec<String> = vec!["label".into()];
         header.extend(self.axes.iter().map(|a| a.key.clone()));
         header.extend(["status".into(), "error".into()]);
-        header.extend(METRICS.iter().map(|(n, _)| n.to_string()));
+        header.extend(METRICS.iter().map(|(n, _, _)| n.to_string()));
         let mut t = CsvTable::new(&header);
         for r in &self.runs {
             let mut row: Vec<Cell> = vec![r.label.as_str().into()];
@@ -330,7 +357,7 @@ impl SweepReport {
             match (&r.summary, &r.error) {
                 (Some(s), _) => {
                     row.extend([Cell::from("ok"), Cell::Empty]);
-                    row.extend(METRICS.iter().map(|(_, f)| Cell::from(f(s))));
+                    row.extend(METRICS.iter().map(|(_, _, f)| Cell::from(f(s))));
                 }
                 (None, e) => {
                     row.extend([
@@ -354,7 +381,7 @@ impl SweepReport {
     }
 
     /// Robbit: mean speed against transferred impulse per distance, with the cube baselines
-    /// of physics.md §5.3 as curves (the thesis' speed-versus-impulse figure).
+    /// of docs/physics.md §5.3 as curves (the thesis' speed-versus-impulse figure).
     fn speed_against_impulse(&self, curves: &CubeCurves) -> LinePlot {
         let runs: Vec<(f64, f64)> = self
             .runs
@@ -380,7 +407,18 @@ impl SweepReport {
     fn quantity_against_axis(&self) -> LinePlot {
         let (axes, y) = (&self.axes, self.y.as_str());
         let x_axis = &axes[0];
-        let mut plot = LinePlot::new(format!("{y} against {}", x_axis.key), &x_axis.key, y);
+        let y_label = metric_label(y);
+        // The quantity in words: the label without its unit.
+        let y_words = y_label.split(" (").next().unwrap_or(y_label);
+        let mut plot = LinePlot::new(
+            format!(
+                "{}: {y_words} against {}",
+                self.scene,
+                key_words(&x_axis.key)
+            ),
+            axis_label(&x_axis.key),
+            y_label,
+        );
         let grid: Vec<&SweepRun> = self.runs.iter().filter(|r| !r.values.is_empty()).collect();
         let series_values: Vec<Option<f64>> = match axes.get(1) {
             Some(axis) => axis.values.iter().copied().map(Some).collect(),
@@ -394,8 +432,8 @@ impl SweepReport {
                 .filter(|(_, v)| v.is_finite())
                 .collect();
             let label = match series_value {
-                Some(v) => format!("{} = {v}", axes[1].key),
-                None => y.to_string(),
+                Some(v) => value_label(&axes[1].key, v),
+                None => y_words.to_string(),
             };
             plot = plot.with_series(Series::line(label, pts).style(SeriesStyle::LineAndPoints));
         }
@@ -410,7 +448,8 @@ impl SweepReport {
             let value = r.summary.as_ref().map(|s| metric(y, s));
             if let Some(v) = value.filter(|v| v.is_finite()) {
                 let line = vec![(x0, v), (x1, v)];
-                plot = plot.with_series(Series::line(r.label.clone(), line).color(*color));
+                let label = format!("baseline: {}", r.label);
+                plot = plot.with_series(Series::line(label, line).color(*color));
             }
         }
         plot
@@ -455,7 +494,7 @@ impl SweepReport {
 }
 
 /// Mean speed against transferred angular impulse per distance (the axes of the thesis'
-/// Fig. 5.7, physics.md §5.3) for the points of `series` (non-finite points and points not
+/// Fig. 5.7, docs/physics.md §5.3) for the points of `series` (non-finite points and points not
 /// moving forward are left out), with the cube baseline [5.21] as one curve per
 /// `(ε, label)` of `cubes`. The impulse axis is logarithmic, so that the cubes, which may
 /// need ten times the robot's impulse, show beside every point.
@@ -476,8 +515,8 @@ pub(crate) fn speed_against_impulse(
     });
     let mut plot = LinePlot::new(
         title,
-        "transferred angular impulse per distance [N m s/m] (log scale)",
-        "mean speed [m/s]",
+        "transferred angular impulse per distance (N m s/m), log scale",
+        "mean speed (m/s)",
     )
     .with_log_x();
     for s in series {

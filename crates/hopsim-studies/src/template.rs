@@ -1,4 +1,4 @@
-//! The impulsive eccentric-wheel template (physics.md §5.1) as studies: one case with its
+//! The impulsive eccentric-wheel template (docs/physics.md §5.1) as studies: one case with its
 //! trajectory and hops ([`case`]), the Cargo `l/R × φ_TO` grid ([`cargo_grid`]), and the
 //! animals' stride against speed ([`animals`]).
 

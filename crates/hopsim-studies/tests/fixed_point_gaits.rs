@@ -1,4 +1,4 @@
-//! The thesis' Figure 5.7 pipeline (physics.md §5.3) on a small grid: every fixed point of
+//! The thesis' Figure 5.7 pipeline (docs/physics.md §5.3) on a small grid: every fixed point of
 //! the grid run from rest in the time-stepper, its speed and impulse per distance over the
 //! run's last seconds, and the cube through the most stable runs.
 

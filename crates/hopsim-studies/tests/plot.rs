@@ -1,11 +1,13 @@
 //! Plots are written as PNG and SVG, atomically, with rendered text.
 
 use hopsim_studies::plot::{
-    write_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle,
+    free_legend_place, robust_range, three_significant_digits, tick_label, write_png_and_svg,
+    CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle,
 };
 use plotters::prelude::*;
 
-fn dark_pixels_in_top_band<F: Figure>(figure: &F) -> usize {
+/// The figure drawn into an RGB buffer.
+fn render<F: Figure>(figure: &F) -> (u32, u32, Vec<u8>) {
     let (w, h) = figure.size();
     let mut buffer = vec![0u8; (w * h * 3) as usize];
     {
@@ -13,28 +15,124 @@ fn dark_pixels_in_top_band<F: Figure>(figure: &F) -> usize {
         figure.draw(&root).unwrap();
         root.present().unwrap();
     }
-    // The caption sits in the top 40 pixel rows.
-    buffer[..(w * 40 * 3) as usize]
-        .chunks(3)
-        .filter(|px| px.iter().all(|&c| c < 128))
+    (w, h, buffer)
+}
+
+fn is_dark(px: &[u8]) -> bool {
+    px.iter().all(|&c| c < 128)
+}
+
+/// Dark pixels in the rows `rows` and columns `columns` of the rendered figure.
+fn dark_pixels<F: Figure>(
+    figure: &F,
+    rows: std::ops::Range<u32>,
+    columns: std::ops::Range<u32>,
+) -> usize {
+    let (w, _, buffer) = render(figure);
+    rows.flat_map(|y| columns.clone().map(move |x| (y * w + x) as usize * 3))
+        .filter(|&i| is_dark(&buffer[i..i + 3]))
         .count()
+}
+
+/// The caption's band: the top 1/16 of the figure.
+fn title_band<F: Figure>(figure: &F) -> std::ops::Range<u32> {
+    0..figure.size().1 / 16
 }
 
 #[test]
 fn captions_render_with_a_font() {
-    let with_title = LinePlot::new("A caption with text φ", "x", "y")
+    let line = || Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]).unlabelled();
+    let with_title = LinePlot::new("A caption with text φ", "x", "y").with_series(line());
+    let without = LinePlot::new("", "x", "y").with_series(line());
+    // The middle third of the caption's band: the title, not the y axis.
+    let w = with_title.size().0;
+    let text = dark_pixels(&with_title, title_band(&with_title), w / 3..2 * w / 3);
+    assert!(text > 500, "caption drew {text} dark pixels");
+    let none = dark_pixels(&without, title_band(&without), w / 3..2 * w / 3);
+    assert!(none < text / 4, "{none} dark pixels without a caption");
+}
+
+/// A title longer than the figure is wide is wrapped onto several lines, none reaching the
+/// figure's edges.
+#[test]
+fn long_titles_wrap_inside_the_figure() {
+    let words =
+        "kangaroo rat: stride against dimensionless speed (ΔE 0.001…0.05 J; ×: not converged)";
+    let title = format!("{words} {words}");
+    let plot = LinePlot::new(title, "x (m)", "y (m)")
         .with_series(Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]));
-    let without =
-        LinePlot::new("", "x", "y").with_series(Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]));
-    let text = dark_pixels_in_top_band(&with_title);
-    assert!(text > 100, "caption drew {text} dark pixels");
-    assert!(dark_pixels_in_top_band(&without) < text / 4);
+    let (w, h, buffer) = render(&plot);
+    let edge = w / 100;
+    let rows_with_text: Vec<u32> = (0..h / 5)
+        .filter(|&y| {
+            (0..w).any(|x| {
+                let i = (y * w + x) as usize * 3;
+                is_dark(&buffer[i..i + 3])
+            })
+        })
+        .collect();
+    // Nothing drawn at the left and right edges of the top fifth (the axes start lower).
+    assert_eq!(dark_pixels(&plot, 0..h / 8, 0..edge), 0);
+    assert_eq!(dark_pixels(&plot, 0..h / 8, w - edge..w), 0);
+    // Two lines of text: a gap of blank rows between two runs of text rows.
+    let runs = rows_with_text
+        .windows(2)
+        .filter(|p| p[1] > p[0] + 1)
+        .count()
+        + 1;
+    assert!(runs >= 2, "title rows {rows_with_text:?}");
+}
+
+/// Tick labels: integers without decimals, steps printed exactly, never `-0`.
+#[test]
+fn tick_labels_are_clean() {
+    assert_eq!(tick_label(10.0, 1.0), "10");
+    assert_eq!(tick_label(-0.0, 0.1), "0");
+    assert_eq!(tick_label(-1e-17, 0.1), "0");
+    assert_eq!(tick_label(0.30000000000000004, 0.1), "0.3");
+    assert_eq!(tick_label(0.025, 0.025), "0.025");
+    assert_eq!(tick_label(-2.5, 0.5), "-2.5");
+    assert_eq!(tick_label(1500.0, 500.0), "1500");
+    assert_eq!(three_significant_digits(8.7123), "8.71");
+    assert_eq!(three_significant_digits(-0.0), "0");
+}
+
+/// One far outlier does not stretch the range; a spread of data does.
+#[test]
+fn robust_ranges_leave_out_far_outliers_only() {
+    let mut values: Vec<f64> = (0..100).map(|i| 0.1 + 0.001 * f64::from(i)).collect();
+    assert_eq!(robust_range(values.iter().copied()), Some((0.1, 0.199)));
+    values.push(8.7);
+    assert_eq!(robust_range(values.iter().copied()), Some((0.1, 0.199)));
+    // A peak just above the rest is data, even beyond the fences.
+    let mut peaked: Vec<f64> = (0..100).map(|i| 0.1 + 0.001 * f64::from(i)).collect();
+    peaked.push(0.25);
+    assert_eq!(robust_range(peaked.iter().copied()), Some((0.1, 0.25)));
+    // Two clusters far apart are both data: the range covers them.
+    let clusters: Vec<f64> = (0..50).map(|i| f64::from(i % 2) * 10.0).collect();
+    assert_eq!(robust_range(clusters.into_iter()), Some((0.0, 10.0)));
+    assert_eq!(robust_range([f64::NAN].into_iter()), None);
+}
+
+/// A legend goes where it covers no data point, or nowhere inside the plot.
+#[test]
+fn legends_avoid_the_data() {
+    let (dim, size) = ((1000, 600), (200, 100));
+    // Data in the upper right: the legend moves to the upper left.
+    let place = free_legend_place(dim, size, &[(900, 50)]).unwrap();
+    assert!(place.0 < 500 && place.1 < 300, "{place:?}");
+    // Data everywhere: no place inside.
+    let everywhere: Vec<(i32, i32)> = (0..1000)
+        .step_by(20)
+        .flat_map(|x| (0..600).step_by(20).map(move |y| (x, y)))
+        .collect();
+    assert_eq!(free_legend_place(dim, size, &everywhere), None);
 }
 
 #[test]
 fn figures_are_written_as_png_and_svg() {
     let dir = tempfile::tempdir().unwrap();
-    let line = LinePlot::new("line", "x [m]", "y [m]")
+    let line = LinePlot::new("line", "x (m)", "y (m)")
         .with_series(Series::line(
             "a",
             vec![(0.0, 1.0), (f64::NAN, f64::NAN), (2.0, 3.0), (3.0, 2.0)],
@@ -110,7 +208,7 @@ fn a_failed_file_leaves_none_of_its_set() {
     let dir = tempfile::tempdir().unwrap();
     let mut table = CsvTable::new(&["a"]);
     table.push(vec![1.0.into()]);
-    let good = LinePlot::new("good", "x [m]", "y [m]")
+    let good = LinePlot::new("good", "x (m)", "y (m)")
         .with_series(Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]));
     let bad = Heatmap::new(
         "bad",

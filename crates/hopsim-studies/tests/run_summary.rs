@@ -1,5 +1,5 @@
 //! The run summary of `hopsim run --summary`: the controller's sections (Robbit's figures
-//! and cube baselines, physics.md §5.3; the gait's period, §5.4) and the JSON keys.
+//! and cube baselines, docs/physics.md §5.3; the gait's period, §5.4) and the JSON keys.
 
 use hopsim_scene::{Override, Scene};
 use hopsim_studies::run_summary::{run_scene, RunReport};

@@ -1,4 +1,4 @@
-//! The reduced models of physics.md §5 against the Moreau time-stepper (§4): the same
+//! The reduced models of docs/physics.md §5 against the Moreau time-stepper (§4): the same
 //! mechanics computed two independent ways. Every tolerance is stated next to its check,
 //! and the measured differences are printed (`cargo test -- --nocapture`) and recorded in
 //! docs/analysis.md §10.
@@ -254,7 +254,7 @@ fn one_robbit_cycle_matches_the_return_map() {
     }
 }
 
-/// (c) From rest with a stable β* at Δt = 2e-4 s (physics.md §5.3), the stepper's take-off
+/// (c) From rest with a stable β* at Δt = 2e-4 s (docs/physics.md §5.3), the stepper's take-off
 /// states converge to the predicted fixed point: over the last 10 of the brakes in 20 s
 /// within [`GaitTolerance::default`] (0.02 rad, 0.05 rad/s), and the speed between them
 /// within 2 % of `stride / period`. This is the model of the brief: flywheel locked at

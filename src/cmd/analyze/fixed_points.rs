@@ -1,4 +1,4 @@
-//! `hopsim analyze fixed-points`: Robbit's periodic gaits and their stability (physics.md §5.3,
+//! `hopsim analyze fixed-points`: Robbit's periodic gaits and their stability (docs/physics.md §5.3,
 //! docs/analysis.md §9).
 
 use clap::{Args, ValueEnum};

@@ -1,4 +1,4 @@
-//! `hopsim analyze gait SCENE|RECORDING`: a gait cycle by cycle (physics.md §5.3, §5.4),
+//! `hopsim analyze gait SCENE|RECORDING`: a gait cycle by cycle (docs/physics.md §5.3, §5.4),
 //! computed by [`hopsim_studies::gait`].
 
 use clap::Args;

@@ -1,4 +1,4 @@
-//! `hopsim analyze impulsive-wheel`: the impulsive wheel's return map (physics.md §5.5),
+//! `hopsim analyze impulsive-wheel`: the impulsive wheel's return map (docs/physics.md §5.5),
 //! computed by [`hopsim_studies::impulsive_wheel`].
 
 use clap::Args;

@@ -1,4 +1,4 @@
-//! `hopsim analyze …`: closed-form maps and reduced models of physics.md §5
+//! `hopsim analyze …`: closed-form maps and reduced models of docs/physics.md §5
 //! (`docs/analysis.md`), computed by the studies of `hopsim-studies` over the theory of
 //! `hopsim-analysis`, and the gait of a simulated or recorded run.
 //!

@@ -1,4 +1,4 @@
-//! `hopsim analyze obstacle`: energy to get a wheel over a wall (physics.md §5.2),
+//! `hopsim analyze obstacle`: energy to get a wheel over a wall (docs/physics.md §5.2),
 //! computed by [`hopsim_studies::obstacle`].
 
 use clap::Args;

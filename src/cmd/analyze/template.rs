@@ -1,4 +1,4 @@
-//! `hopsim analyze template`: the impulsive eccentric-wheel template (physics.md §5.1),
+//! `hopsim analyze template`: the impulsive eccentric-wheel template (docs/physics.md §5.1),
 //! computed by [`hopsim_studies::template`].
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};

@@ -143,7 +143,7 @@ if __name__ == "__main__":
             u, c = sequential(n, eps)
             print(f"n={n} eps={eps}: u_final = {np.round(u, 6)}  collisions = {c}  momentum = {u.sum():.6f}  KE ratio = {np.sum(u*u):.6f}")
     print()
-    print("== midpoint time-stepper (physics.md section 4), dt = 1e-3, v = 1 ==")
+    print("== midpoint time-stepper (docs/physics.md section 4), dt = 1e-3, v = 1 ==")
     for n in (3, 5):
         for eps in (1.0, 0.9, 0.5, 0.0):
             for gap in (0.0, 1e-4, 2e-3):

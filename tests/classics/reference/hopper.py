@@ -1,4 +1,4 @@
-"""Point-foot hopper with a prismatic spring leg: closed forms and a physics.md-section-4 check.
+"""Point-foot hopper with a prismatic spring leg: closed forms and a docs/physics.md-section-4 check.
 
 q = (y_b, s): body height, leg length (foot height y_f = y_b - s).
 T = 1/2 m y_b'^2 + 1/2 m_f (y_b' - s')^2;  V = m g y_b + m_f g (y_b - s) + 1/2 k (L0 - s)^2.

@@ -1,7 +1,7 @@
-"""Small, independent re-implementation of the physics.md section 4 step (Moreau midpoint,
+"""Small, independent re-implementation of the docs/physics.md section 4 step (Moreau midpoint,
 one frictional LCP per step), used to compute reference numbers for docs/classics.md.
 
-Not hopsim code: written from physics.md alone (numpy only).
+Not hopsim code: written from docs/physics.md alone (numpy only).
 """
 import itertools
 import numpy as np
@@ -92,7 +92,7 @@ def lemke(A, b, maxpiv=None, tol=1e-12):
 
 # ------------------------------------------------------------------- contact LCP of section 4
 def contact_lcp(G_NN, G_NT, G_TN, G_TT, mu, bN, bT):
-    """A, b of physics.md section 4 for k contacts, all with friction rows."""
+    """A, b of docs/physics.md section 4 for k contacts, all with friction rows."""
     k = len(bN)
     Mu = np.diag(mu)
     I = np.eye(k)
@@ -162,7 +162,7 @@ def solve_impact(Minv, u_tilde, uA, contacts, method="lemke"):
 
 
 def moreau_step(model, t, q, u, dt):
-    """One physics.md section-4 step. model provides M(q), h(q,u,t), contacts(q) -> list of
+    """One docs/physics.md section-4 step. model provides M(q), h(q,u,t), contacts(q) -> list of
     Contact (all candidates; the ones with g <= 0 are used)."""
     tM = t + dt / 2
     qM = q + dt / 2 * u

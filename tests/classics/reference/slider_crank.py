@@ -2,7 +2,7 @@
 Parameters as in Siconos examples/mechanics/SliderCrank/SCConst.h ("according to Table 1")
 and cardillo's SliderCrankFlores (eqs. (90)-(96) of the paper's book-chapter version).
 q = (theta1, theta2, theta3) absolute angles of crank, rod, slider; slider CoM at the rod end.
-Simulated with the physics.md section-4 step (nsmech.py)."""
+Simulated with the docs/physics.md section-4 step (nsmech.py)."""
 import math
 import sys
 import numpy as np

@@ -1,7 +1,7 @@
 """Woodpecker toy, Glocker's linearised 3-DOF model (Glocker 1995 thesis sec. 5.3.5; Pfeiffer &
 Glocker 1996), parameters as in Siconos' examples/mechanics/Woodpecker/WoodPeckerConsts.h and
 Leine's sys_woodpecker.m. q = (y, phi_M, phi_S): sleeve height, sleeve angle, bird angle.
-Simulated with the physics.md section-4 step (independent implementation, nsmech.py)."""
+Simulated with the docs/physics.md section-4 step (independent implementation, nsmech.py)."""
 import sys
 import numpy as np
 from nsmech import Contact, moreau_step

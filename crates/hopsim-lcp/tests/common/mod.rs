@@ -1,5 +1,5 @@
 //! Shared by the integration tests and the benchmarks: contact LCPs of the form in
-//! physics.md §4 and an independent brute-force LCP solver.
+//! docs/physics.md §4 and an independent brute-force LCP solver.
 #![allow(dead_code)]
 
 use hopsim_lcp::{LcpSolution, LemkeOptions, LemkeSolver};
@@ -30,7 +30,7 @@ pub struct ContactSystem {
     pub mu: Vec<f64>,
 }
 
-/// Disc of radius `r` whose centre of mass is `a` from its centre (physics.md §2), with
+/// Disc of radius `r` whose centre of mass is `a` from its centre (docs/physics.md §2), with
 /// its generalised coordinates `(x, y, φ)` starting at `dof`.
 #[derive(Clone, Copy)]
 pub struct Disc {
@@ -89,7 +89,7 @@ impl ContactSystem {
     }
 
     /// Disc on flat ground `y = 0` (its centre at height `r`): `w_N = (0, 1, −a sin φ)`,
-    /// `w_T = (1, 0, R − a cos φ)` (physics.md §2).
+    /// `w_T = (1, 0, R − a cos φ)` (docs/physics.md §2).
     pub fn ground(&mut self, d: &Disc, mu: f64) {
         self.add(d, None, [d.cx, d.cy - d.r], [0.0, 1.0], mu);
     }
@@ -115,7 +115,7 @@ impl ContactSystem {
         self.add(d, Some(left), p, n, mu);
     }
 
-    /// The LCP `w = A z + b` of physics.md §4 (restitution 0) for `ũ = u^A + G h Δt`:
+    /// The LCP `w = A z + b` of docs/physics.md §4 (restitution 0) for `ũ = u^A + G h Δt`:
     /// `z = (Λ_N, Λ_R, ξ_L)`, `w = (ξ_N, ξ_R, Λ_L)`.
     pub fn lcp(&self, u_tilde: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
         let k = self.mu.len();
@@ -148,7 +148,7 @@ impl ContactSystem {
     }
 }
 
-/// Robbit (physics.md §5.3): `q = (x, y, φ, ψ)`, `M = diag(1.405, 1.405, 3.004e-3,
+/// Robbit (docs/physics.md §5.3): `q = (x, y, φ, ψ)`, `M = diag(1.405, 1.405, 3.004e-3,
 /// 1.543e-3)`, eccentric disc `R = 0.2`, `a = 0.1`, `μ = 1`, rolling at `φ̇ = −3 rad/s`
 /// on the ground into the corner of a 5 cm step (two closed contacts, a 6×6 LCP), flywheel
 /// spinning at 20 rad/s, motor torque 0.2 N m, `Δt = 2e-4 s`.

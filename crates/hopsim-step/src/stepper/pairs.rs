@@ -1,4 +1,4 @@
-//! The body–body contacts of stage 4 (physics.md §7): they enter the index set, the LCP
+//! The body–body contacts of stage 4 (docs/physics.md §7): they enter the index set, the LCP
 //! and the records like terrain contacts, numbered after them (see `Model::pairs`). A
 //! model without them never calls into this module.
 
@@ -7,7 +7,7 @@ use hopsim_model::Model;
 
 impl Stepper {
     /// Adds the enabled body–body contacts with `g_N(q^M) ≤ 0` to the index set, with
-    /// `w_N = J_Bᵀ n − J_Aᵀ n`, `w_T` likewise, and `γ^A` (physics.md §7).
+    /// `w_N = J_Bᵀ n − J_Aᵀ n`, `w_T` likewise, and `γ^A` (docs/physics.md §7).
     pub(super) fn pair_index_set(&mut self, model: &Model) {
         let n = self.n;
         let first = model.contacts.len();

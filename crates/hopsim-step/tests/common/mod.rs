@@ -43,7 +43,7 @@ pub fn eccentric_disc(mass: f64, inertia: f64, r: f64, a: f64, mat: ContactMater
     )
 }
 
-/// Robbit of physics.md §5.3: off-centred disc plus a flywheel pivoting at the CoM,
+/// Robbit of docs/physics.md §5.3: off-centred disc plus a flywheel pivoting at the CoM,
 /// coordinates `(x, y, φ, ψ)` with `ψ` absolute.
 pub fn robbit() -> Model {
     Model::new(
@@ -105,7 +105,7 @@ pub fn run(
     }
 }
 
-/// A two-body hopper in the spirit of CaneBot (physics.md §5.4): an upper body, a lower
+/// A two-body hopper in the spirit of CaneBot (docs/physics.md §5.4): an upper body, a lower
 /// body on a damped relative joint carrying a circular-arc foot and a point cane, two
 /// damped springs across the joint (one an extension spring), friction `mu`.
 pub fn two_body_hopper(mu: f64) -> Model {

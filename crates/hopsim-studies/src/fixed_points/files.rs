@@ -82,14 +82,14 @@ const GRID_MAPS: [GridMap; 3] = [
     GridMap {
         stem: "fixed_points_torque",
         title: "fixed-point torque T*",
-        label: "T* [N m]",
+        label: "T* (N m)",
         cap: true,
         value: |f| f.torque,
     },
     GridMap {
         stem: "fixed_points_impulse_limit",
         title: "fixed-point impulse limit ζ0*",
-        label: "ζ0* [N m s]",
+        label: "ζ0* (N m s)",
         cap: true,
         value: |f| f.impulse_limit,
     },
@@ -121,8 +121,8 @@ pub fn grid_maps(angles: &[f64], energies: &[f64], points: &[PointSummary]) -> V
             };
             let mut h = Heatmap::new(
                 format!("Robbit {} (blank: none, ×: unstable{note})", map.title),
-                "take-off angle φ_TO [rad]",
-                "take-off energy E_TO [J]",
+                "take-off angle φ_TO (rad)",
+                "take-off energy E_TO (J)",
                 map.label,
                 angles.to_vec(),
                 energies.to_vec(),
@@ -177,17 +177,17 @@ pub fn gait_check_files(check: &GaitCheck) -> Vec<ReportFile> {
     };
     let plot = LinePlot::new(
         "time-stepper take-off states minus the predicted fixed point",
-        "brake",
-        "error",
+        "brake number",
+        "take-off state error (rad, rad/s)",
     )
     .with_series(
-        Series::line("angle: φ − φ* [rad]", series(|d| d.angle_error_rad))
+        Series::line("angle φ − φ* (rad)", series(|d| d.angle_error_rad))
             .style(SeriesStyle::LineAndPoints)
             .color(PALETTE[0]),
     )
     .with_series(
         Series::line(
-            "rate: dφ/dt − (dφ/dt)* [rad/s]",
+            "rate dφ/dt − (dφ/dt)* (rad/s)",
             series(|d| d.rate_error_rad_s),
         )
         .style(SeriesStyle::LineAndPoints)

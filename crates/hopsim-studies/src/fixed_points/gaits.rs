@@ -1,4 +1,4 @@
-//! The thesis' Figure 5.7 (physics.md §5.3): every fixed-point control `β* = (T*, ζ0*)` of
+//! The thesis' Figure 5.7 (docs/physics.md §5.3): every fixed-point control `β* = (T*, ζ0*)` of
 //! a grid run in the time-stepper from rest, its mean speed and transferred angular impulse
 //! per distance over the run's last `speed_window` seconds (the run summary's window),
 //! against the cube baseline [5.21] for `ε = 0` and for the restitution `ε_eq` whose cube
@@ -21,7 +21,7 @@ use std::time::Instant;
 
 /// What the thesis reports of Figure 5.7: the disc needs about ten times less impulse per
 /// distance than the inelastic cube, and the cube with `ε = 0.87` passes through the most
-/// stable disc points (physics.md §5.3). Shown next to hopsim's figures, never used in them.
+/// stable disc points (docs/physics.md §5.3). Shown next to hopsim's figures, never used in them.
 pub const THESIS_IMPULSE_RATIO: f64 = 10.0;
 /// See [`THESIS_IMPULSE_RATIO`].
 pub const THESIS_EQUIVALENT_RESTITUTION: f64 = 0.87;

@@ -7,7 +7,7 @@ use hopsim_analysis::numerics::Complex;
 use hopsim_analysis::robbit::RobbitParams;
 use serde::Serialize;
 
-/// Robbit's parameters (physics.md §5.3, Table 5.1).
+/// Robbit's parameters (docs/physics.md §5.3, Table 5.1).
 #[derive(Clone, Debug, Serialize)]
 pub struct RobotParameters {
     pub radius_m: f64,
@@ -68,7 +68,7 @@ impl From<&Complex> for Eigenvalue {
     }
 }
 
-/// A fixed point `β* = (T*, ζ0*)`, its stability and its gait (physics.md §5.3 [5.18]).
+/// A fixed point `β* = (T*, ζ0*)`, its stability and its gait (docs/physics.md §5.3 [5.18]).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct FixedPointSummary {
     /// `T*` [N m].

@@ -169,7 +169,7 @@ fn fixed_point_rows(t: &mut Table, f: &FixedPointSummary, stable: bool) {
 pub fn point_text(r: &PointReport) -> String {
     let q = &r.point;
     let mut t =
-        Table::new("Robbit fixed point (physics.md §5.3; forward = +x, φ counter-clockwise)");
+        Table::new("Robbit fixed point (docs/physics.md §5.3; forward = +x, φ counter-clockwise)");
     t.row(
         "flywheel at touchdown",
         r.about.parameters.flywheel_at_touchdown,
@@ -212,7 +212,7 @@ pub fn point_text(r: &PointReport) -> String {
 pub fn grid_text(r: &GridReport) -> String {
     let (n, m) = (r.angles_rad.len(), r.energies.len());
     let mut t = Table::new(format!(
-        "Robbit fixed points (physics.md §5.3), {n} × {m} grid (φ_TO × E_TO)"
+        "Robbit fixed points (docs/physics.md §5.3), {n} × {m} grid (φ_TO × E_TO)"
     ));
     let reasons = if r.no_fixed_point_reasons.is_empty() {
         "0".to_string()

@@ -1,8 +1,8 @@
-//! The animals of Table 3.1 (physics.md §5.1): stride against dimensionless speed
+//! The animals of Table 3.1 (docs/physics.md §5.1): stride against dimensionless speed
 //! `u / sqrt(g l)` over each animal's ranges of take-off angle and energy input.
 
 use super::{span, ParamsWithEccentricity};
-use crate::plot::{LinePlot, Series, SeriesStyle, PALETTE};
+use crate::plot::{three_significant_digits, LinePlot, RGBColor, Series, SeriesStyle, PALETTE};
 use crate::progress::Progress;
 use crate::report::{num, num_range, Report, ReportFile, Table};
 use crate::Result;
@@ -169,19 +169,19 @@ impl AnimalSweep {
         let energy = self.case.ranges().energy_input;
         let mut plot = LinePlot::new(
             format!(
-                "{}: stride against dimensionless speed (ΔE {}…{} J; open: not converged)",
+                "{}: stride against dimensionless speed (ΔE {}…{} J; ×: not converged)",
                 self.case.name(),
-                num(energy.0, ""),
-                num(energy.1, "")
+                three_significant_digits(energy.0),
+                three_significant_digits(energy.1)
             ),
-            "u / sqrt(g l)",
-            "stride [m]",
+            "dimensionless speed u / sqrt(g l)",
+            "stride (m)",
         );
         for (i, phi) in takeoff_angles(&self.points).into_iter().enumerate() {
             let color = PALETTE[i % PALETTE.len()];
             plot = plot.with_series(
                 Series::line(
-                    format!("φ_TO = {phi:.3}"),
+                    format!("φ_TO = {} rad", three_significant_digits(phi)),
                     stride_against_speed(&self.points, phi, true),
                 )
                 .style(SeriesStyle::LineAndPoints)
@@ -193,9 +193,20 @@ impl AnimalSweep {
                     Series::points("", open)
                         .style(SeriesStyle::Crosses)
                         .color(color)
-                        .unlabelled(),
+                        .unlabelled()
+                        .without_range(),
                 );
             }
+        }
+        // The crosses' legend entry (their colour is their take-off angle's).
+        let open = |s: &Series| s.style == SeriesStyle::Crosses && !s.points.is_empty();
+        if plot.series.iter().any(open) {
+            let grey = RGBColor(110, 110, 110);
+            plot = plot.with_series(
+                Series::points("not converged (colour: its φ_TO)", Vec::new())
+                    .style(SeriesStyle::Crosses)
+                    .color(grey),
+            );
         }
         plot
     }

@@ -1,4 +1,4 @@
-//! The Cargo template over its Table-3.1 `l/R × φ_TO` grid (physics.md §5.1): which cells
+//! The Cargo template over its Table-3.1 `l/R × φ_TO` grid (docs/physics.md §5.1): which cells
 //! have a converged gait, the cheapest and the fastest, and heatmaps of both.
 
 use super::ParamsWithEccentricity;
@@ -179,8 +179,8 @@ impl CargoGridReport {
     fn heatmap(&self, title: &str, label: &str, f: fn(&GaitSummary) -> f64) -> Heatmap {
         Heatmap::new(
             format!("Cargo template: {title} (blank: no converged gait)"),
-            "l / R",
-            "φ_TO [rad]",
+            "leg length over radius l / R",
+            "take-off angle φ_TO (rad)",
             label,
             self.leg_over_radius.clone(),
             self.takeoff_angles.clone(),
@@ -243,7 +243,7 @@ impl Report for CargoGridReport {
             ),
             ReportFile::figure(
                 "cargo_grid_speed",
-                self.heatmap("mean speed", "mean speed [m/s]", |s| s.mean_speed_mps),
+                self.heatmap("mean speed", "mean speed (m/s)", |s| s.mean_speed_mps),
             ),
         ]
     }

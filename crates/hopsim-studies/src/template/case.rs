@@ -1,4 +1,4 @@
-//! One template case (physics.md §5.1): its gait over the last hops, warnings where the
+//! One template case (docs/physics.md §5.1): its gait over the last hops, warnings where the
 //! template's assumptions fail, and (as files) the trajectory and the per-hop records.
 
 use super::ParamsWithEccentricity;
@@ -251,8 +251,8 @@ impl CaseReport {
                 first_hop + 1,
                 hops.max(first_hop + 1)
             ),
-            "x [m]",
-            "y [m]",
+            "x (m)",
+            "y (m)",
         );
         for (phase, color) in [(Phase::Flight, PALETTE[1]), (Phase::Stance, PALETTE[0])] {
             let points = phase_path(&self.run.trajectory, first_hop, phase);
@@ -268,8 +268,12 @@ impl CaseReport {
             .iter()
             .map(|h| ((h.index + 1) as f64, h.stride_m / h.period_s))
             .collect();
-        LinePlot::new("per-hop speed (stride / period)", "hop", "speed [m/s]")
-            .with_series(Series::line("speed", speeds).style(SeriesStyle::LineAndPoints))
+        LinePlot::new(
+            "per-hop speed (stride / period)",
+            "hop number",
+            "speed (m/s)",
+        )
+        .with_series(Series::line("speed", speeds).style(SeriesStyle::LineAndPoints))
     }
 }
 
@@ -277,7 +281,7 @@ impl Report for CaseReport {
     fn text(&self) -> String {
         let p = &self.run.params;
         let mut t = Table::new(format!(
-            "template {} (physics.md §5.1; forward = +x)",
+            "template {} (docs/physics.md §5.1; forward = +x)",
             self.case
         ));
         t.row(
