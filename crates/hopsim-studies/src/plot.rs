@@ -1387,7 +1387,7 @@ impl Figure for Heatmap {
         let bar_area = bar_chart.plotting_area().strip_coord_spec();
         let label_size = fitting_size(
             &bar_area,
-            &[self.value_label.clone()],
+            std::slice::from_ref(&self.value_label),
             AXIS_FONT - 2.0,
             bar_h as i32,
         );
