@@ -123,6 +123,10 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
         scene_path: "wheel.toml".into(),
         scene_text: "[meta]\ntitle = \"wheel\"\n".into(),
         coordinates: ["x", "y", "phi"].map(String::from).to_vec(),
+        coordinate_units: {
+            use hopsim_record::CoordinateUnit::{Metre, Radian};
+            vec![Metre, Metre, Radian]
+        },
         bodies: vec![BodyInfo {
             name: "wheel".into(),
             shapes: vec![],

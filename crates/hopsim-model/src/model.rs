@@ -308,6 +308,20 @@ impl Model {
         (self.bodies[b].coordinate_count() > 0).then(|| self.first_coordinate[b])
     }
 
+    /// Whether generalised coordinate `i` is a length in metres (a floating base's `x` or
+    /// `y`, a prismatic joint's extension); otherwise it is an angle in radians
+    /// (docs/physics.md §7.1).
+    pub fn coordinate_is_length(&self, i: usize) -> bool {
+        self.bodies.iter().enumerate().any(|(b, body)| {
+            let first = self.first_coordinate[b];
+            match (&body.joint, body.coordinate_count()) {
+                (None, _) => i == first || i == first + 1,
+                (Some(joint), 1) => i == first && matches!(joint.kind, JointKind::Prismatic { .. }),
+                _ => false,
+            }
+        })
+    }
+
     /// The root of body `b`'s tree.
     pub fn root(&self, mut b: usize) -> usize {
         while let Some(p) = self.bodies[b].joint.as_ref().and_then(|j| j.parent) {

@@ -1,7 +1,6 @@
 //! [`CsvRecorder`]: the recorded frames as one CSV row each, the events in a second file.
 
 use crate::frame::FrameLayout;
-use crate::geometry::CoordinateUnit;
 use crate::{AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo, Stop};
 use hopsim_io::{csv_field, partial_path};
 use std::io::Write;
@@ -24,7 +23,7 @@ pub fn frame_columns(info: &RecordingInfo) -> Vec<String> {
         info.coordinates
             .iter()
             .enumerate()
-            .map(|(i, n)| (n, CoordinateUnit::of(i)))
+            .map(|(i, n)| (n, info.coordinate_units[i]))
     };
     columns.extend(units().map(|(n, unit)| format!("{n}_{}", unit.position())));
     columns.extend(units().map(|(n, unit)| format!("{n}_dot_{}", unit.velocity())));

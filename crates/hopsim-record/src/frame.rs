@@ -1,5 +1,6 @@
 //! Plain data handed to recorders: the static description of a run and per-frame samples.
 
+use crate::geometry::CoordinateUnit;
 use hopsim_model::{Shape, Terrain};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -22,6 +23,8 @@ pub struct RecordingInfo {
     pub scene_text: String,
     /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
     pub coordinates: Vec<String>,
+    /// The unit of each coordinate, indexed like `coordinates`.
+    pub coordinate_units: Vec<CoordinateUnit>,
     /// Bodies with their shapes.
     pub bodies: Vec<BodyInfo>,
     /// Names of the potential contacts (indexed by `ContactSample::contact`).

@@ -8,26 +8,17 @@ use std::f64::consts::TAU;
 /// A planar point, m.
 pub(crate) type Point = [f64; 2];
 
-/// Unit of a generalised coordinate. `q = (x, y, φ, θ_1, …)` (docs/architecture.md): the
-/// base's centre of mass in metres, then angles in radians (docs/physics.md §1).
+/// Unit of a generalised coordinate (docs/physics.md §7.1): metres for a floating base's
+/// `x`, `y` and a prismatic joint's extension, radians for every angle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum CoordinateUnit {
+pub enum CoordinateUnit {
     Metre,
     Radian,
 }
 
 impl CoordinateUnit {
-    /// The unit of coordinate `index`.
-    pub(crate) fn of(index: usize) -> Self {
-        if index < 2 {
-            Self::Metre
-        } else {
-            Self::Radian
-        }
-    }
-
     /// Unit suffix of the coordinate, e.g. `m`.
-    pub(crate) fn position(self) -> &'static str {
+    pub fn position(self) -> &'static str {
         match self {
             Self::Metre => "m",
             Self::Radian => "rad",
@@ -35,7 +26,7 @@ impl CoordinateUnit {
     }
 
     /// Unit suffix of its velocity, e.g. `m_s` for m/s.
-    pub(crate) fn velocity(self) -> &'static str {
+    pub fn velocity(self) -> &'static str {
         match self {
             Self::Metre => "m_s",
             Self::Radian => "rad_s",

@@ -26,6 +26,7 @@ pub use frame::{
     recorded_time, BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame,
     RecordingInfo, TIME_DECIMALS,
 };
+pub use geometry::CoordinateUnit;
 pub use hopsim_io::{partial_path, write_atomically, AtomicFile};
 pub use mcap_format::{
     CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC, STOP_METADATA_NAME,

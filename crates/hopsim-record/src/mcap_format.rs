@@ -6,7 +6,6 @@
 //! Python `mcap` reader decodes it with `json.loads`. Field names carry SI units
 //! (`_s`, `_m`, `_Ns`, `_J`, `_Nm`); non-finite numbers are written as `null`.
 
-use crate::geometry::CoordinateUnit;
 use crate::{BodyPose, ContactSample, Frame, RecordingInfo};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -135,7 +134,7 @@ fn stamp() -> [(&'static str, Value); 2] {
 fn state_schema(info: &RecordingInfo) -> Value {
     let coordinates = |velocity: bool| {
         let fields = info.coordinates.iter().enumerate().map(|(i, name)| {
-            let unit = CoordinateUnit::of(i);
+            let unit = info.coordinate_units[i];
             let unit = if velocity {
                 unit.velocity()
             } else {

@@ -363,10 +363,10 @@ const FORCE_ENTITY: &str = "world/contacts/force";
 /// What a time series shows, per frame.
 #[derive(Clone, Debug, PartialEq)]
 enum Quantity {
-    /// `x`, `y`.
-    Position,
-    /// The angles `φ, θ_1, …` wrapped to (−π, π].
-    Angles,
+    /// These coordinates, lengths in metres (`x`, `y`, prismatic extensions).
+    Lengths(Vec<usize>),
+    /// These coordinates, angles (`φ, θ_1, …`) wrapped to (−π, π].
+    Angles(Vec<usize>),
     /// These entries of [`EnergySample::values`].
     Energies(Vec<usize>),
     BalanceError,
@@ -392,10 +392,10 @@ impl Series {
     fn push(&mut self, frame: &Frame<'_>) {
         let start = self.values.len();
         match &self.quantity {
-            Quantity::Position => self.values.extend(&frame.q[..self.names.len()]),
-            Quantity::Angles => {
-                let angles = &frame.q[frame.q.len() - self.names.len()..];
-                self.values.extend(angles.iter().map(|&a| wrap_angle(a)));
+            Quantity::Lengths(which) => self.values.extend(which.iter().map(|&i| frame.q[i])),
+            Quantity::Angles(which) => {
+                let angles = which.iter().map(|&i| wrap_angle(frame.q[i]));
+                self.values.extend(angles);
             }
             Quantity::Energies(which) => {
                 let e = frame.energy.values();
@@ -429,22 +429,18 @@ fn scene_series(info: &RecordingInfo) -> Vec<Series> {
         first_color,
         values: Vec::new(),
     };
-    // Units as in every recording: the first two coordinates metres, the others radians.
-    let metres = (0..info.coordinates.len())
-        .take_while(|&i| CoordinateUnit::of(i) == CoordinateUnit::Metre)
-        .count();
-    let (positions, angles) = info.coordinates.split_at(metres);
+    // Each coordinate in its unit: lengths in metres, angles in radians.
+    let (lengths, angles): (Vec<usize>, Vec<usize>) = (0..info.coordinates.len())
+        .partition(|&i| info.coordinate_units[i] == CoordinateUnit::Metre);
+    let names = |which: &[usize]| which.iter().map(|&i| info.coordinates[i].clone()).collect();
     let mut all = Vec::new();
-    if !positions.is_empty() {
-        all.push(series(
-            PLOT_POSITION,
-            Quantity::Position,
-            positions.to_vec(),
-            0,
-        ));
+    if !lengths.is_empty() {
+        let names = names(&lengths);
+        all.push(series(PLOT_POSITION, Quantity::Lengths(lengths), names, 0));
     }
     if !angles.is_empty() {
-        all.push(series(PLOT_ANGLE, Quantity::Angles, angles.to_vec(), 0));
+        let names = names(&angles);
+        all.push(series(PLOT_ANGLE, Quantity::Angles(angles), names, 0));
     }
     let energies: Vec<usize> = EnergySample::NAMES
         .iter()
@@ -986,6 +982,7 @@ mod tests {
             scene_path: String::new(),
             scene_text: String::new(),
             coordinates: vec![],
+            coordinate_units: vec![],
             bodies: vec![],
             contacts: vec![],
             springs: vec![],
@@ -1053,6 +1050,7 @@ mod tests {
         // spring energy or actuator work.
         let mut info = empty_info();
         info.coordinates = ["x", "y"].map(String::from).to_vec();
+        info.coordinate_units = vec![CoordinateUnit::Metre; 2];
         let passive = names(&info);
         assert_eq!(
             passive,
@@ -1068,6 +1066,7 @@ mod tests {
             ]
         );
         info.coordinates.push("phi".into());
+        info.coordinate_units.push(CoordinateUnit::Radian);
         info.contacts = vec!["disc/ground".into()];
         info.springs = vec!["spring".into()];
         info.actuated = true;

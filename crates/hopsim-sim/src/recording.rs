@@ -3,8 +3,8 @@
 use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_record::{
-    recorded_time, BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame,
-    RecorderSet, RecordingInfo, Stop,
+    recorded_time, BodyInfo, BodyPose, ContactSample, CoordinateUnit, EnergySample, Event,
+    EventKind, Frame, RecorderSet, RecordingInfo, Stop,
 };
 use hopsim_scene::Scene;
 use std::path::PathBuf;
@@ -17,6 +17,15 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
         scene_path: scene.path.display().to_string(),
         scene_text: scene.text.clone(),
         coordinates: scene.coordinates.clone(),
+        coordinate_units: (0..scene.coordinates.len())
+            .map(|i| {
+                if model.coordinate_is_length(i) {
+                    CoordinateUnit::Metre
+                } else {
+                    CoordinateUnit::Radian
+                }
+            })
+            .collect(),
         bodies: model
             .bodies
             .iter()

@@ -173,3 +173,25 @@ fn mcap_records_every_joint_stop_hit_with_its_impulse() {
     let steps: std::collections::BTreeSet<u64> = rec.states.iter().map(|s| s.step).collect();
     assert!(recorded.iter().all(|(k, _)| steps.contains(k)));
 }
+
+/// Every coordinate is recorded in its own unit: a floating base's `x`, `y` and a prismatic
+/// leg's extension in metres, angles in radians, whatever their place in `q`.
+#[test]
+fn recordings_name_each_coordinate_with_its_unit() {
+    let columns = |name: &str| {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}"));
+        let scene = hopsim_scene::load(&path, &[]).unwrap();
+        let columns = hopsim_record::frame_columns(&recording_info(&scene));
+        let coordinates = 2 + scene.coordinates.len();
+        columns[2..coordinates].to_vec()
+    };
+    // The hopper: a floating body (x, y, phi) with a prismatic leg `s` along −y.
+    assert_eq!(
+        columns("classic/hopper.toml"),
+        ["x_m", "y_m", "phi_rad", "s_m"]
+    );
+    // The pendulum pinned to the world: its one coordinate is an angle.
+    assert_eq!(columns("classic/pendulum-stop.toml"), ["theta_rad"]);
+    // Robbit: the floating disc and the flywheel's angle.
+    assert_eq!(columns("robbit.toml"), ["x_m", "y_m", "phi_rad", "psi_rad"]);
+}

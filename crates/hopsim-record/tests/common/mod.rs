@@ -18,6 +18,10 @@ pub fn info() -> RecordingInfo {
         scene_path: "scenes/robbit-test.toml".into(),
         scene_text: SCENE_TEXT.into(),
         coordinates: ["x", "y", "phi", "psi"].map(String::from).to_vec(),
+        coordinate_units: {
+            use hopsim_record::CoordinateUnit::{Metre, Radian};
+            vec![Metre, Metre, Radian, Radian]
+        },
         bodies: vec![
             BodyInfo {
                 name: "disc".into(),
