@@ -6,23 +6,36 @@ mod common;
 use hopsim_lcp::{LcpStatus, LemkeSolver};
 use nalgebra::{dmatrix, dvector};
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations of this thread: the test harness's own threads may allocate while a
+    /// test runs, and only the solver's thread is under test.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // `try_with`: the slot may be gone while a thread shuts down.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+fn allocated() -> usize {
+    ALLOCATIONS.with(|c| c.get())
+}
 
 // SAFETY: forwards to the system allocator, only counting calls.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -45,7 +58,7 @@ fn repeated_solves_of_varying_size_do_not_allocate() {
     for (m, q) in &problems {
         solver.solve(m.as_view(), q.as_view()).unwrap();
     }
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = allocated();
     let mut solved = 0;
     for _ in 0..20 {
         for (m, q) in &problems {
@@ -53,7 +66,7 @@ fn repeated_solves_of_varying_size_do_not_allocate() {
             solved += usize::from(sol.status == LcpStatus::Solved);
         }
     }
-    let after = ALLOCATIONS.load(Ordering::Relaxed);
+    let after = allocated();
     assert_eq!(
         after - before,
         0,
