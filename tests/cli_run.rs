@@ -111,6 +111,48 @@ fn run_writes_every_output_and_a_complete_summary() {
     assert_eq!(rec.scene.map(|s| s.text), Some(scene));
 }
 
+/// Every gallery scene (`scenes/classic/`) runs from the command line and records to MCAP
+/// and Rerun; the MCAP holds the scene's states and names its coordinates.
+#[test]
+fn every_gallery_scene_runs_and_records() {
+    let scenes: Vec<PathBuf> = files_in(Path::new("scenes/classic"))
+        .into_iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    assert!(
+        scenes.iter().any(|p| p.ends_with("woodpecker.toml")),
+        "{scenes:?}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    for scene in &scenes {
+        let (mcap, rrd) = (dir.path().join("r.mcap"), dir.path().join("r.rrd"));
+        let out = hopsim(&[
+            "run",
+            &scene.display().to_string(),
+            "--duration",
+            "0.05",
+            "--quiet",
+            "--mcap",
+            &mcap.display().to_string(),
+            "--rrd",
+            &rrd.display().to_string(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            scene.display(),
+            text(&out.stderr)
+        );
+        assert!(
+            std::fs::metadata(&rrd).unwrap().len() > 0,
+            "{}",
+            scene.display()
+        );
+        let rec = hopsim_record::McapRecording::read(&mcap).unwrap();
+        assert!(!rec.states.is_empty(), "{}", scene.display());
+    }
+}
+
 #[test]
 fn quiet_prints_nothing() {
     let out = hopsim(&["run", "scenes/robbit.toml", "--duration", "0.2", "--quiet"]);

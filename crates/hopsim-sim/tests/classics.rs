@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::scene;
+use common::{scene, starts};
 use hopsim_sim::{Observer, RunError, Simulation, StepView};
 
 /// What one step left behind.
@@ -51,13 +51,6 @@ fn run(name: &str, overrides: &[&str]) -> (Vec<Sample>, f64) {
         sim.step(&mut samples).expect("step");
     }
     (samples.0, scene.settings.dt)
-}
-
-/// Indices of the steps that start a run of steps with `active` true (an impact).
-fn starts(samples: &[Sample], active: impl Fn(&Sample) -> bool) -> Vec<usize> {
-    (0..samples.len())
-        .filter(|&i| active(&samples[i]) && (i == 0 || !active(&samples[i - 1])))
-        .collect()
 }
 
 /// `|found − expected| ≤ per_dt Δt`, with a message naming the quantity.

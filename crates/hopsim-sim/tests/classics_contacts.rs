@@ -1,22 +1,39 @@
 //! Gallery scenes with contacts between bodies and the Painlevé paradox
-//! (docs/classics.md §1, §5; docs/physics.md §7): Newton's cradle of 3 and 5 balls against
-//! Moreau's simultaneous impact law and, with gaps between the balls, against sequential
-//! binary collisions; Painlevé's rod above the critical friction against the closed-form
-//! solution of its one-step LCP.
+//! (docs/classics.md §1, §4, §5, §6; docs/physics.md §7): Newton's cradle of 3 and 5 balls
+//! against Moreau's simultaneous impact law and, with gaps between the balls, against
+//! sequential binary collisions; Painlevé's rod above the critical friction against the
+//! closed-form solution of its one-step LCP; the slider–crank with clearance against an
+//! independent re-implementation of the step; the woodpecker toy's limit cycle, impacts and
+//! jam angle.
 
 mod common;
 
-use common::scene;
+use common::{scene, starts};
 use hopsim_sim::{Observer, RunError, Simulation, StepView};
 
 /// What one step left behind.
 struct Sample {
+    /// Time at the end of the step, s.
+    t: f64,
+    q: Vec<f64>,
     u: Vec<f64>,
-    /// Largest body–body normal percussion of the step, N s.
-    pair_impulse: f64,
+    /// Body–body contacts of the step's index set: `(index into Model::pairs, Λ_N)`.
+    pairs: Vec<(usize, f64)>,
     /// Terrain contacts: `(Λ_N, Λ_T)` of each.
     contacts: Vec<(f64, f64)>,
     lcp_failed: bool,
+}
+
+impl Sample {
+    /// Largest body–body normal percussion of the step, N s.
+    fn pair_impulse(&self) -> f64 {
+        self.pairs.iter().map(|p| p.1).fold(0.0, f64::max)
+    }
+
+    /// Whether the body–body contact `pair` is in the step's index set.
+    fn touches(&self, pair: usize) -> bool {
+        self.pairs.iter().any(|p| p.0 == pair)
+    }
 }
 
 #[derive(Default)]
@@ -25,13 +42,15 @@ struct Samples(Vec<Sample>);
 impl Observer for Samples {
     fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
         self.0.push(Sample {
+            t: v.state.t,
+            q: v.state.q.as_slice().to_vec(),
             u: v.state.u.as_slice().to_vec(),
-            pair_impulse: v
+            pairs: v
                 .record
                 .pair_contacts
                 .iter()
-                .map(|c| c.impulse_normal)
-                .fold(0.0, f64::max),
+                .map(|c| (c.contact, c.impulse_normal))
+                .collect(),
             contacts: v
                 .record
                 .contacts
@@ -78,7 +97,7 @@ fn cradle_follows_moreaus_simultaneous_impact_law() {
             );
             assert_eq!(u0[0], v);
             let impacts: Vec<usize> = (0..samples.len())
-                .filter(|&i| samples[i].pair_impulse > 1e-12)
+                .filter(|&i| samples[i].pair_impulse() > 1e-12)
                 .collect();
             assert_eq!(
                 impacts.len(),
@@ -138,7 +157,7 @@ fn cradle_with_gaps_collides_ball_by_ball() {
         overrides.push("simulation.duration=2.0");
         let (samples, _) = run(&format!("cradle-{n}.toml"), &overrides);
         let impacts = (0..samples.len())
-            .filter(|&i| samples[i].pair_impulse > 1e-12)
+            .filter(|&i| samples[i].pair_impulse() > 1e-12)
             .count();
         assert_eq!(impacts, collisions, "n = {n}, ε = {eps}");
         let found = x_velocities(&samples[samples.len() - 1].u);
@@ -306,4 +325,115 @@ fn slider_crank_with_clearance_matches_the_reference_step() {
         sim.state().u[0]
     );
     assert!(theta3 < 1e-9, "|θ₃| up to {theta3}");
+}
+
+/// docs/classics.md §6: the woodpecker toy with exact planar kinematics (a sleeve on a
+/// prismatic joint along the pole, turning on a revolute joint; the bird on a sprung revolute
+/// joint; the beak and the sleeve's two bird-side corners as points against the pole's face
+/// `x = r_O`), from Leine's initial state, 2 s at Δt = 2e-5 s.
+///
+/// - Limit cycle, averaged over the 11 cycles between the first beak impact after the
+///   transient (0.4 s) and the last one: period and descent per cycle against the
+///   independent §4 re-implementation of the same geometry (0.13085 s and 0.014551 m, the
+///   mean of its last four cycles before 1 s at this Δt). Measured: 0.130835 s (error
+///   1.5e-5 s) and 0.014543 m (error 8e-6 m); single cycles scatter by ±4e-5 s (impact times
+///   fall on steps) and ±3e-5 m, so a four-cycle mean is uncertain by about 2e-5 s and
+///   1.5e-5 m. Bounds: 5e-5 s (0.04 %) and 5e-5 m (0.3 %).
+/// - One beak impact per cycle (a cycle: from one upward zero crossing of `φ_S` to the
+///   next), and at each beak impact Newton's law with `ε = 0.5`: the beak's normal velocity
+///   at the step's end is `−0.5` times that at its start, both taken at the step's midpoint
+///   configuration (only the beak is closed then). Measured to 4e-14 m/s (of 0.296 m/s);
+///   bound 1e-9 m/s.
+/// - The sleeve jams where a corner reaches the pole's face: `r_M cos φ_M ± h_M sin φ_M = r_O`,
+///   `|φ_M| = acos(r_O / √(r_M² + h_M²)) − atan2(h_M, r_M) = 0.100901 rad` (the linearised
+///   model's `(r_M − r_O)/h_M = 0.103448 rad` is its small-angle value). With `ε = 0` the
+///   corner's normal velocity ends at zero, so the step that closes it leaves `|φ_M|` past
+///   the jam angle, by less than the angle turned in one step, `|ω_M| Δt`; measured past by
+///   1.8e-6 to 2.9e-4 rad, each within its step's `|ω_M| Δt` (1.2e-4 to 4.4e-4 rad).
+#[test]
+fn woodpecker_descends_on_its_limit_cycle() {
+    // Published geometry (docs/classics.md §6), m.
+    let (r_o, r_m, h_m) = (0.0025f64, 0.0031f64, 0.0058f64);
+    let (l_m, l_g, l_s, h_s) = (0.010f64, 0.015f64, 0.0201f64, 0.02f64);
+    let (period_ref, descent_ref, transient) = (0.13085, 0.014551, 0.4);
+    let scene = scene("classic/woodpecker.toml", &[]);
+    let dt = scene.settings.dt;
+    let pair = |probe: &str| {
+        let name = format!("{probe}/pole");
+        scene
+            .model
+            .pairs
+            .iter()
+            .position(|p| p.name == name)
+            .unwrap_or_else(|| panic!("no contact {name}"))
+    };
+    let (beak, corners) = (pair("beak"), [pair("lower_corner"), pair("upper_corner")]);
+    let (samples, _) = run("woodpecker.toml", &[]);
+    assert!(samples.iter().all(|s| !s.lcp_failed));
+
+    // The limit cycle: beak impacts (the first step of each run with the beak closed).
+    let impacts: Vec<usize> = starts(&samples, |s| s.touches(beak))
+        .into_iter()
+        .filter(|&i| samples[i].t > transient)
+        .collect();
+    let cycles = impacts.len() - 1;
+    assert!(cycles >= 10, "{cycles} cycles after the transient");
+    let (first, last) = (&samples[impacts[0]], &samples[impacts[cycles]]);
+    let period = (last.t - first.t) / cycles as f64;
+    let descent = (first.q[0] - last.q[0]) / cycles as f64;
+    assert!(
+        (period - period_ref).abs() < 5e-5,
+        "period {period} s vs {period_ref} s"
+    );
+    assert!(
+        (descent - descent_ref).abs() < 5e-5,
+        "descent {descent} m per cycle vs {descent_ref} m"
+    );
+
+    // One beak impact per cycle, each following Newton's law with ε = 0.5.
+    let rising = starts(&samples, |s| s.q[2] > 0.0);
+    for w in rising.windows(2).filter(|w| samples[w[0]].t > transient) {
+        let inside = impacts.iter().filter(|&&i| w[0] <= i && i < w[1]).count();
+        assert_eq!(inside, 1, "beak impacts from t = {} s", samples[w[0]].t);
+    }
+    for &i in &impacts {
+        let (before, after) = (&samples[i - 1], &samples[i]);
+        // Midpoint angles and the beak's x velocity there (the pole's normal is +x).
+        let phi_m = before.q[1] + 0.5 * dt * before.u[1];
+        let phi_s = before.q[2] + 0.5 * dt * before.u[2];
+        let normal_velocity = |u: &[f64]| {
+            -l_m * phi_m.sin() * u[1] - ((l_g - l_s) * phi_s.sin() + h_s * phi_s.cos()) * u[2]
+        };
+        let (gamma_a, gamma_e) = (normal_velocity(&before.u), normal_velocity(&after.u));
+        assert!(
+            gamma_a < 0.0 && after.pairs.len() == 1,
+            "t = {} s: {:?}",
+            after.t,
+            after.pairs
+        );
+        assert!(
+            (gamma_e + 0.5 * gamma_a).abs() < 1e-9,
+            "t = {} s: beak γ_N {gamma_a} → {gamma_e} m/s",
+            after.t
+        );
+    }
+
+    // The sleeve jams at the exact angle, within one step's rotation.
+    let jam = (r_o / r_m.hypot(h_m)).acos() - h_m.atan2(r_m);
+    assert!((jam - 0.100901).abs() < 1e-6);
+    let mut jams = 0;
+    for &corner in &corners {
+        for i in starts(&samples, |s| s.touches(corner)) {
+            let past = samples[i].q[1].abs() - jam;
+            let turned = samples[i - 1].u[1].abs() * dt;
+            assert!(
+                (-1e-12..=turned).contains(&past),
+                "t = {} s: |φ_M| = {} rad, {past:e} rad past the jam angle (one step: {turned:e})",
+                samples[i].t,
+                samples[i].q[1].abs()
+            );
+            jams += 1;
+        }
+    }
+    assert!(jams >= 2 * cycles, "{jams} jams");
 }

@@ -20,6 +20,13 @@ pub fn scene(name: &str, overrides: &[&str]) -> Scene {
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
+/// Indices of the steps that start a run of steps with `active` true (an impact).
+pub fn starts<T>(samples: &[T], active: impl Fn(&T) -> bool) -> Vec<usize> {
+    (0..samples.len())
+        .filter(|&i| active(&samples[i]) && (i == 0 || !active(&samples[i - 1])))
+        .collect()
+}
+
 /// Runs `scene` to its end, showing every step to `observer`.
 pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Summary {
     hopsim_sim::run(scene, observer).expect("run completes")
