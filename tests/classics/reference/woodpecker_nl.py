@@ -70,3 +70,14 @@ if __name__ == "__main__":
     print("gaps at q=0:", [c.g for c in mdl.contacts(np.zeros(3))])
     traj, beak = run(q0, u0, 2e-5, T, model=mdl)
     summarize(beak, "nonlinear kinematics, Leine IC, dt=2e-5")
+    # The settled cycle: from the first beak impact after the 0.4 s transient to the last.
+    settled = [b for b in beak if b[0] > 0.4]
+    if len(settled) > 1:
+        (t0, q0s), (t1, q1s), n = settled[0][:2], settled[-1][:2], len(settled) - 1
+        t = traj[:, 0]
+        w = traj[(t >= t0 - 1e-9) & (t <= t1 + 1e-9)]
+        print(f"   {n} cycles from t = {t0:.5f} to {t1:.5f} s: period {(t1 - t0) / n:.9f} s, "
+              f"descent {(q0s[0] - q1s[0]) / n:.9f} m per cycle")
+        print(f"   phi_M in [{w[:, 2].min():.7f}, {w[:, 2].max():.7f}], "
+              f"phi_S in [{w[:, 3].min():.7f}, {w[:, 3].max():.7f}] rad, "
+              f"stuck (ydot = 0) {np.mean(np.abs(w[:, 4]) < 1e-12):.4f} of the time")
