@@ -245,8 +245,10 @@ impl RerunRecorder {
             .iter()
             .filter_map(|j| Some((j, j.rail()?)))
         {
+            let child = &self.drawing.bodies[j.body].entity;
+            let child = child.rsplit('/').next().unwrap_or(child);
             self.log_static(
-                &format!("{}/rail_{}", self.drawing.bodies[parent].entity, j.body),
+                &format!("{}/rail_{child}", self.drawing.bodies[parent].entity),
                 &LineStrips2D::new([rail.map(f32_point)]).with_colors([rgb(RAIL_COLOR)]),
             )?;
         }
