@@ -132,6 +132,7 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
             shapes: vec![],
         }],
         contacts: vec!["wheel/ground".into()],
+        joints: vec![],
         springs: vec![],
         terrain: Terrain::flat(0.0),
         dt: 1e-3,

@@ -9,7 +9,9 @@ use hopsim_record::{
 };
 use hopsim_scene::Scene;
 use hopsim_sim::{recording_info, RecordingObserver, RunError, Simulation};
-use hopsim_step::{Actuation, ImpulseCommand, JointForceCommand, State, TorqueCommand};
+use hopsim_step::{
+    Actuation, ContactRecord, ImpulseCommand, JointForceCommand, State, TorqueCommand,
+};
 use hopsim_studies::run_summary::run_simulation;
 use nalgebra::DVector;
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayMethods};
@@ -469,21 +471,28 @@ impl PySimulation {
     /// `state` (`"open"`, `"stick"` or `"slip"`).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let sim = self.shared();
-        let list = PyList::empty(py);
-        for c in &sim.stepper().record().contacts {
-            let d = PyDict::new(py);
-            d.set_item("contact", &self.scene.model.contacts[c.contact].name)?;
-            d.set_item("index", c.contact)?;
-            d.set_item("gap", c.gap)?;
-            d.set_item("point", (c.point.x, c.point.y))?;
-            d.set_item("normal", (c.normal.x, c.normal.y))?;
-            d.set_item("impulse_normal", c.impulse_normal)?;
-            d.set_item("impulse_tangent", c.impulse_tangent)?;
-            d.set_item("slip_velocity", c.slip_velocity)?;
-            d.set_item("state", c.state.as_str())?;
-            list.append(d)?;
-        }
-        Ok(list)
+        let model = &self.scene.model;
+        contact_list(py, &sim.stepper().record().contacts, |i| {
+            (model.contacts[i].name.as_str(), None)
+        })
+    }
+
+    /// The body–body contacts of the last step's index set (docs/physics.md §7), as
+    /// `contacts()` gives the terrain's, plus `probe` and `target` (the two shapes' names):
+    /// `index` counts the scene's contact pairs, `point` is the probe's point, `normal`
+    /// points from the target to the probe, and the percussions act on the probe's body
+    /// (their opposites on the target's).
+    fn pair_contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let sim = self.shared();
+        let model = &self.scene.model;
+        contact_list(py, &sim.stepper().record().pair_contacts, |i| {
+            let pair = &model.pairs[i];
+            let shape = |s: usize| model.shapes[s].name.as_str();
+            (
+                pair.name.as_str(),
+                Some((shape(pair.probe), shape(pair.target))),
+            )
+        })
     }
 
     /// The events of the last step (JSON text, as recorded: `t_s`, `step`, `kind`, ...).
@@ -501,4 +510,33 @@ impl PySimulation {
             sim.stepper().record().step
         )
     }
+}
+
+/// One dict per contact record; `names(index)` gives the contact's name and, for a
+/// body–body contact, its probe and target shapes.
+fn contact_list<'py, 'a>(
+    py: Python<'py>,
+    records: &[ContactRecord],
+    names: impl Fn(usize) -> (&'a str, Option<(&'a str, &'a str)>),
+) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for c in records {
+        let d = PyDict::new(py);
+        let (name, shapes) = names(c.contact);
+        d.set_item("contact", name)?;
+        if let Some((probe, target)) = shapes {
+            d.set_item("probe", probe)?;
+            d.set_item("target", target)?;
+        }
+        d.set_item("index", c.contact)?;
+        d.set_item("gap", c.gap)?;
+        d.set_item("point", (c.point.x, c.point.y))?;
+        d.set_item("normal", (c.normal.x, c.normal.y))?;
+        d.set_item("impulse_normal", c.impulse_normal)?;
+        d.set_item("impulse_tangent", c.impulse_tangent)?;
+        d.set_item("slip_velocity", c.slip_velocity)?;
+        d.set_item("state", c.state.as_str())?;
+        list.append(d)?;
+    }
+    Ok(list)
 }

@@ -225,3 +225,35 @@ def test_trajectory_to_pandas(robbit):
     assert frame["step"].dtype.kind == "i"
     assert len(frame) == len(trajectory) == 11
     np.testing.assert_array_equal(frame["y_m"], trajectory.q[:, 1])
+
+
+def test_cradle_pair_contacts_carry_moreaus_simultaneous_percussions(robbit_path):
+    """Newton's cradle, 3 balls of 1 kg, ε = 1 (docs/classics.md §1): ball 1 arrives at
+    1 m/s on balls 2 and 3 at rest and touching. In the impact step both ball–ball contacts
+    take part, and Moreau's law gives the velocities (−1/3, 2/3, 2/3) m/s: the percussions
+    are m (1 + 1/3) = 4/3 N s between balls 1 and 2 and m 2/3 = 2/3 N s between 2 and 3."""
+    scene = hopsim.Scene.load(robbit_path.parent / "classic" / "cradle-3.toml")
+    sim = hopsim.Simulation(scene)
+    idle = hopsim.Actuation()
+    while not any(c["impulse_normal"] > 0.0 for c in sim.pair_contacts()):
+        assert sim.t < 0.1, "no impact in the first 0.1 s"
+        sim.step(actuation=idle)
+    assert sim.contacts() == []
+    contacts = sorted(sim.pair_contacts(), key=lambda c: c["impulse_normal"])
+    assert [c["contact"] for c in contacts] == [
+        f"{c['probe']}/{c['target']}" for c in contacts
+    ]
+    assert {(c["probe"], c["target"]) for c in contacts} <= {
+        ("ball2", "ball1"), ("ball1", "ball2"), ("ball3", "ball2"), ("ball2", "ball3"),
+    }
+    assert {frozenset((c["probe"], c["target"])) for c in contacts} == {
+        frozenset(("ball1", "ball2")), frozenset(("ball2", "ball3")),
+    }
+    # No gravity and no friction: the percussions are exact up to round-off.
+    impulses = [c["impulse_normal"] for c in contacts]
+    np.testing.assert_allclose(impulses, [2.0 / 3.0, 4.0 / 3.0], rtol=1e-9)
+    for c in contacts:
+        assert c["impulse_tangent"] == pytest.approx(0.0, abs=1e-12)
+        assert abs(c["normal"][0]) == pytest.approx(1.0, abs=1e-12)
+        assert c["gap"] <= 0.0
+    np.testing.assert_allclose(sim.u[0::3], [-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0], atol=1e-9)

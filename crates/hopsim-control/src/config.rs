@@ -81,9 +81,11 @@ impl std::fmt::Display for CaneMode {
 /// Open-loop bi-directional joint torque pulse with a cane schedule (docs/physics.md §5.4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PulseConfig {
-    /// Index of the body driven by the joint motor (its parent takes the reaction).
+    /// Index of the body driven by the joint motor (its parent takes the reaction): on a
+    /// revolute joint (a pinned base included) or a prismatic one.
     pub joint_body: usize,
-    /// Pulse torque magnitude, N m (`+torque`, then `-torque`).
+    /// Pulse magnitude (`+torque`, then `-torque`): a torque in N m on a revolute joint, a
+    /// force in N along the axis of a prismatic one (the scene's `force`).
     pub torque: f64,
     /// Duration of each of the two pulses, s.
     pub pulse_duration: f64,

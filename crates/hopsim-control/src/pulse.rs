@@ -1,14 +1,16 @@
 //! CaneBot's open-loop bi-directional torque pulse and cane schedule (docs/physics.md §5.4).
 
 use crate::{shape_gap, CaneMode, ControlEvent, ControlInput, Controller, PulseConfig};
-use hopsim_step::{Actuation, TorqueCommand};
+use hopsim_model::JointKind;
+use hopsim_step::{Actuation, JointForceCommand, TorqueCommand};
 
 /// The schedule is read at each step's midpoint time `t^M = t^A + Δt/2`, where the midpoint
 /// scheme evaluates its forces (docs/physics.md §4). A step never straddles a switching time
 /// ambiguously: when `Δt` divides the switching times (scenes/canebot.toml: `Δt = P/1800`)
 /// every midpoint lies half a step away from them, and each pulse lasts the same number of
 /// steps in every period.
-/// `+T` for `pulse_duration`, `-T` for `pulse_duration`, then idle, every period `P`;
+/// `+T` for `pulse_duration`, `-T` for `pulse_duration`, then idle, every period `P` (a
+/// torque on a revolute joint, a force along the axis of a prismatic one);
 /// the cane follows its schedule but cannot extend while its tip is in the ground.
 pub struct Pulse {
     config: PulseConfig,
@@ -19,7 +21,7 @@ impl Pulse {
         Self { config }
     }
 
-    /// Motor torque at time `t`.
+    /// Motor torque (N m) at time `t`, or force (N) on a prismatic joint.
     pub fn torque_at(&self, t: f64) -> f64 {
         let c = &self.config;
         let phase = t.rem_euclid(c.period);
@@ -53,12 +55,19 @@ impl Controller for Pulse {
         events: &mut Vec<ControlEvent>,
     ) {
         let t = input.state.t + 0.5 * input.dt;
-        let joint = input.model.bodies[self.config.joint_body].joint.as_ref();
-        actuation.torques.push(TorqueCommand {
-            body: self.config.joint_body,
-            reaction: joint.and_then(|j| j.parent),
-            torque: self.torque_at(t),
-        });
+        let (body, value) = (self.config.joint_body, self.torque_at(t));
+        let joint = input.model.bodies[body].joint.as_ref();
+        match joint.map(|j| j.kind) {
+            // A force along the axis, its reaction on the parent (docs/physics.md §7).
+            Some(JointKind::Prismatic { .. }) => actuation
+                .joint_forces
+                .push(JointForceCommand { body, force: value }),
+            _ => actuation.torques.push(TorqueCommand {
+                body,
+                reaction: joint.and_then(|j| j.parent),
+                torque: value,
+            }),
+        }
         if let Some(cane) = self.config.cane_shape {
             let wanted = self.cane_wanted(t);
             let active = input.shapes_active[cane];

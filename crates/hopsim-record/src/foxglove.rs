@@ -8,10 +8,10 @@
 //! down. A counter-clockwise planar rotation by `θ` is then a rotation by `−θ` about +y.
 
 use crate::geometry::{
-    palette, terrain_pieces, Outline, Point, RobotShapes, TerrainCover, INACTIVE_COLOR,
+    palette, terrain_pieces, Outline, Point, RobotShapes, TerrainCover, INACTIVE_COLOR, RAIL_COLOR,
     TERRAIN_COLOR,
 };
-use crate::{Frame, RecordingInfo};
+use crate::{Frame, JointInfo, RecordingInfo};
 use hopsim_model::Terrain;
 use serde::ser::SerializeSeq;
 use serde::{Serialize, Serializer};
@@ -51,6 +51,9 @@ pub(crate) struct FoxgloveScene {
     frames: Vec<String>,
     terrain: Terrain,
     cover: TerrainCover,
+    /// Per body, the rails of the prismatic joints it carries (docs/physics.md §7): from
+    /// the anchor plus the lower to the upper extension along the axis, in its frame.
+    rails: Vec<Vec<[Point; 2]>>,
     /// The shapes' activity in the last scene update (none before the first).
     active: Option<Vec<bool>>,
 }
@@ -63,6 +66,7 @@ impl FoxgloveScene {
             shapes,
             frames: info.bodies.iter().map(|b| body_frame(&b.name)).collect(),
             terrain: info.terrain.clone(),
+            rails: rails(info),
             active: None,
         }
     }
@@ -103,6 +107,9 @@ impl FoxgloveScene {
         let spoke = [[0.0, 0.0], [self.shapes.spokes_m[b], 0.0]];
         let mut lines = vec![line(LINE_STRIP, spoke.map(vector).to_vec(), palette(b))];
         let mut spheres = vec![sphere([0.0, 0.0], marker, palette(b))];
+        for rail in &self.rails[b] {
+            lines.push(line(LINE_STRIP, rail.map(vector).to_vec(), RAIL_COLOR));
+        }
         for (outline, &on) in self.shapes.outlines[b].iter().zip(active) {
             match outline {
                 Outline::Strip(points) => {
@@ -123,6 +130,15 @@ impl FoxgloveScene {
             frame,
         }
     }
+}
+
+/// Per body, the rails of the prismatic joints hanging on it, in its frame.
+fn rails(info: &RecordingInfo) -> Vec<Vec<[Point; 2]>> {
+    let mut rails = vec![Vec::new(); info.bodies.len()];
+    for (parent, rail) in info.joints.iter().filter_map(JointInfo::rail) {
+        rails[parent].push(rail);
+    }
+    rails
 }
 
 /// A `foxglove.FrameTransforms` message, serialised without building a JSON tree.

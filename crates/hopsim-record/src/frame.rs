@@ -12,6 +12,80 @@ pub struct BodyInfo {
     pub shapes: Vec<(String, Shape)>,
 }
 
+/// A joint, as recordings describe and draw it (docs/physics.md §1, §7).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JointInfo {
+    /// Index of the body on the joint (in `RecordingInfo::bodies`).
+    pub body: usize,
+    /// Index of its parent body; `None`: the world (a pinned base).
+    pub parent: Option<usize>,
+    /// The joint's anchor: in the parent's frame relative to its centre of mass, or the
+    /// world point of a pinned base, m.
+    pub anchor_m: [f64; 2],
+    /// The joint point on the child, in its frame relative to its centre of mass, m.
+    pub child_point_m: [f64; 2],
+    /// Revolute or prismatic.
+    pub kind: JointInfoKind,
+}
+
+/// What a recorded joint lets the child do.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum JointInfoKind {
+    /// Rotation about the anchor.
+    Revolute,
+    /// Translation along `axis` (a unit vector in the parent's frame): the child's joint
+    /// point is at `anchor + s axis`.
+    Prismatic {
+        axis: [f64; 2],
+        /// The extensions drawn as the joint's rail, `[lower, upper]`, m: its limits, or
+        /// without them the span from 0 to the initial extension.
+        stroke_m: [f64; 2],
+    },
+}
+
+impl JointInfo {
+    /// The joint's link in the world at `poses` (one per body): from the anchor on the
+    /// parent to the child's joint point; for a prismatic joint a segment of length `|s|`
+    /// along the axis.
+    pub fn link(&self, poses: &[BodyPose]) -> [[f64; 2]; 2] {
+        let world = |pose: &BodyPose, [x, y]: [f64; 2]| {
+            let (sin, cos) = pose.angle.sin_cos();
+            [
+                pose.position[0] + cos * x - sin * y,
+                pose.position[1] + sin * x + cos * y,
+            ]
+        };
+        let anchor = match self.parent {
+            Some(p) => world(&poses[p], self.anchor_m),
+            None => self.anchor_m,
+        };
+        [anchor, world(&poses[self.body], self.child_point_m)]
+    }
+
+    /// A prismatic joint on a body: its parent and its rail in the parent's frame, from
+    /// the anchor moved by the lower to the upper extension of `stroke_m` along the axis.
+    pub fn rail(&self) -> Option<(usize, [[f64; 2]; 2])> {
+        match (self.parent, self.kind) {
+            (Some(parent), JointInfoKind::Prismatic { axis, stroke_m }) => {
+                let at = |s: f64| {
+                    [
+                        self.anchor_m[0] + s * axis[0],
+                        self.anchor_m[1] + s * axis[1],
+                    ]
+                };
+                Some((parent, [at(stroke_m[0]), at(stroke_m[1])]))
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether the joint is prismatic.
+    pub fn is_prismatic(&self) -> bool {
+        matches!(self.kind, JointInfoKind::Prismatic { .. })
+    }
+}
+
 /// What a recording needs to know once, before the first frame.
 #[derive(Clone, Debug)]
 pub struct RecordingInfo {
@@ -29,6 +103,8 @@ pub struct RecordingInfo {
     pub bodies: Vec<BodyInfo>,
     /// Names of the potential contacts (indexed by `ContactSample::contact`).
     pub contacts: Vec<String>,
+    /// The joints of the bodies that hang on one (floating and fixed bases have none).
+    pub joints: Vec<JointInfo>,
     /// Names of the springs (indexed like `Frame::springs`).
     pub springs: Vec<String>,
     /// The terrain to draw.

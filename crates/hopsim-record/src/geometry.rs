@@ -200,6 +200,8 @@ pub(crate) const INACTIVE_COLOR: [u8; 3] = [170, 170, 170];
 
 /// Colour of the terrain.
 pub(crate) const TERRAIN_COLOR: [u8; 3] = [90, 90, 90];
+/// A prismatic joint's rail (the extensions it may take), drawn in its parent's frame.
+pub(crate) const RAIL_COLOR: [u8; 3] = [150, 150, 150];
 
 /// `angle` wrapped to (−π, π], rad.
 pub(crate) fn wrap_angle(angle: f64) -> f64 {

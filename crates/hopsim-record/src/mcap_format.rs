@@ -168,7 +168,7 @@ fn state_schema(info: &RecordingInfo) -> Value {
             ("bodies", object("pose of every body", bodies)),
             (
                 "actuator_torque_Nm",
-                number("actuator torque commanded this step, N m"),
+                number("actuator torque commanded this step, N m (a pulse on a prismatic joint: its force, N)"),
             ),
         ])),
     )
@@ -509,6 +509,28 @@ pub(crate) struct ContactIn {
 }
 
 /// The metadata record `hopsim`: what is needed to rerun the recording.
+/// The metadata `joints`: a JSON list of `{body, parent, kind, anchor_m, child_point_m}`
+/// (bodies by name, `parent` null for the world), prismatic joints with `axis` and
+/// `stroke_m`.
+fn joints_json(info: &RecordingInfo) -> String {
+    let name = |b: usize| info.bodies.get(b).map_or("", |body| body.name.as_str());
+    let joints: Vec<Value> = info
+        .joints
+        .iter()
+        .map(|j| {
+            let mut v = serde_json::to_value(j.kind).unwrap_or(Value::Null);
+            if let Value::Object(map) = &mut v {
+                map.insert("body".into(), name(j.body).into());
+                map.insert("parent".into(), j.parent.map(name).into());
+                map.insert("anchor_m".into(), j.anchor_m.to_vec().into());
+                map.insert("child_point_m".into(), j.child_point_m.to_vec().into());
+            }
+            v
+        })
+        .collect();
+    Value::from(joints).to_string()
+}
+
 pub(crate) fn metadata(info: &RecordingInfo, scene_file: &str) -> BTreeMap<String, String> {
     let list = |names: &[String]| Value::from(names).to_string();
     let bodies: Vec<String> = info.bodies.iter().map(|b| b.name.clone()).collect();
@@ -521,6 +543,7 @@ pub(crate) fn metadata(info: &RecordingInfo, scene_file: &str) -> BTreeMap<Strin
         ("bodies", list(&bodies)),
         ("contacts", list(&info.contacts)),
         ("springs", list(&info.springs)),
+        ("joints", joints_json(info)),
         ("hopsim_version", env!("CARGO_PKG_VERSION").to_string()),
         ("format_version", FORMAT_VERSION.to_string()),
     ]

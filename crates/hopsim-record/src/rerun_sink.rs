@@ -10,9 +10,11 @@
 use crate::frame::FrameLayout;
 use crate::geometry::{
     palette, terrain_pieces, wrap_angle, CoordinateUnit, Outline, Point, RobotShapes, TerrainCover,
-    INACTIVE_COLOR, TERRAIN_COLOR,
+    INACTIVE_COLOR, RAIL_COLOR, TERRAIN_COLOR,
 };
-use crate::{EnergySample, Event, EventKind, Frame, RecordError, Recorder, RecordingInfo, Stop};
+use crate::{
+    EnergySample, Event, EventKind, Frame, JointInfo, RecordError, Recorder, RecordingInfo, Stop,
+};
 use hopsim_io::AtomicPath;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Horizontal, Spatial2DView, TextLogView, TimePanel, TimeSeriesView,
@@ -49,6 +51,9 @@ const CHUNK_FRAMES: usize = 1000;
 const LIVE_FLUSH_INTERVAL: Duration = Duration::from_millis(50);
 /// Colour of the contact-force arrows.
 const FORCE_COLOR: [u8; 3] = [214, 39, 40];
+/// The prismatic links: from each joint's anchor on the parent to the child's joint point.
+const LINK_ENTITY: &str = "world/joints";
+const LINK_COLOR: [u8; 3] = [60, 60, 60];
 
 /// How fast a live stream ([`RerunRecorder::spawn`]) plays the run.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -223,6 +228,28 @@ impl RerunRecorder {
             self.log_static(
                 "world/springs",
                 &LineStrips2D::update_fields().with_colors([Color::from_rgb(120, 120, 40)]),
+            )?;
+        }
+        if !self.columns.prismatic.is_empty() {
+            self.log_static(
+                LINK_ENTITY,
+                &LineStrips2D::update_fields()
+                    .with_colors([rgb(LINK_COLOR)])
+                    .with_radii([0.5 * marker]),
+            )?;
+        }
+        // A prismatic joint's rail in its parent's frame: the extensions it may take.
+        for (j, (parent, rail)) in self
+            .columns
+            .prismatic
+            .iter()
+            .filter_map(|j| Some((j, j.rail()?)))
+        {
+            let child = &self.drawing.bodies[j.body].entity;
+            let child = child.rsplit('/').next().unwrap_or(child);
+            self.log_static(
+                &format!("{}/rail_{child}", self.drawing.bodies[parent].entity),
+                &LineStrips2D::new([rail.map(f32_point)]).with_colors([rgb(RAIL_COLOR)]),
             )?;
         }
         if !self.drawing.contacts_empty {
@@ -490,6 +517,9 @@ struct Columns {
     /// Spring segments, `springs` per frame.
     springs: Vec<[[f32; 2]; 2]>,
     spring_count: usize,
+    /// The prismatic joints and their link segments, one per joint and frame.
+    prismatic: Vec<JointInfo>,
+    links: Vec<[[f32; 2]; 2]>,
     /// Contact-force arrows and how many each frame has.
     arrow_origins: Vec<[f32; 2]>,
     arrow_vectors: Vec<[f32; 2]>,
@@ -512,6 +542,8 @@ impl Columns {
             com: Vec::with_capacity(CHUNK_FRAMES),
             springs: Vec::with_capacity(CHUNK_FRAMES * info.springs.len()),
             spring_count: info.springs.len(),
+            prismatic: prismatic_joints(info),
+            links: Vec::with_capacity(CHUNK_FRAMES * prismatic_joints(info).len()),
             arrow_origins: Vec::new(),
             arrow_vectors: Vec::new(),
             arrows_per_frame: Vec::with_capacity(CHUNK_FRAMES),
@@ -542,6 +574,11 @@ impl Columns {
                 .springs
                 .iter()
                 .map(|(a, b)| [f32_point(*a), f32_point(*b)]),
+        );
+        self.links.extend(
+            self.prismatic
+                .iter()
+                .map(|j| j.link(frame.bodies).map(f32_point)),
         );
         let before = self.arrow_origins.len();
         for c in frame.contacts {
@@ -599,6 +636,11 @@ impl Columns {
                 springs.columns(lengths).map(Iterator::collect),
             )?;
         }
+        if !self.prismatic.is_empty() {
+            let links = LineStrips2D::update_fields().with_strips(self.links.iter().copied());
+            let lengths = std::iter::repeat_n(self.prismatic.len(), rows);
+            send(LINK_ENTITY, links.columns(lengths).map(Iterator::collect))?;
+        }
         if !drawing.contacts_empty {
             let arrows = Arrows2D::update_fields()
                 .with_vectors(self.arrow_vectors.iter().copied())
@@ -615,6 +657,7 @@ impl Columns {
         self.rotations.iter_mut().for_each(Vec::clear);
         self.com.clear();
         self.springs.clear();
+        self.links.clear();
         self.arrow_origins.clear();
         self.arrow_vectors.clear();
         self.arrows_per_frame.clear();
@@ -628,6 +671,15 @@ fn builder(info: &RecordingInfo) -> RecordingStreamBuilder {
         .recording_name(info.scene.clone())
         .enabled(true)
         .with_blueprint(blueprint(&scene_series(info)))
+}
+
+/// The prismatic joints of a recording (drawn as links).
+fn prismatic_joints(info: &RecordingInfo) -> Vec<JointInfo> {
+    info.joints
+        .iter()
+        .filter(|j| j.is_prismatic())
+        .cloned()
+        .collect()
 }
 
 /// Title of the panel of a time-series entity, with its unit.
@@ -985,6 +1037,7 @@ mod tests {
             coordinate_units: vec![],
             bodies: vec![],
             contacts: vec![],
+            joints: vec![],
             springs: vec![],
             terrain: Terrain::flat(0.0),
             dt: 1e-3,
@@ -1036,6 +1089,65 @@ mod tests {
         rec.frame(&frame(0.06 + EVENT_MARKER_HOLD_S)).unwrap();
         assert!(on_view(&rec).is_empty());
         Box::new(rec).finish().unwrap();
+    }
+
+    /// A prismatic joint's link is drawn each frame from its anchor on the parent to the
+    /// child's joint point. The parent at `(1, 2)` turned by 90°: its anchor `(0.1, 0)` is
+    /// at `(1, 2.1)` and its axis `(0, −1)` points along world `+x`. The child at
+    /// `(0.7, 2.1)`, also at 90°, has its joint point `(0, −0.2)` at `(0.9, 2.1)`: the
+    /// link ends at `anchor + s axis` with `s = −0.1`.
+    #[test]
+    fn prismatic_links_go_from_the_anchor_to_the_joint_point() {
+        let mut info = empty_info();
+        info.bodies = ["cart", "slider"]
+            .map(|name| crate::BodyInfo {
+                name: name.into(),
+                shapes: vec![],
+            })
+            .to_vec();
+        info.joints = vec![JointInfo {
+            body: 1,
+            parent: Some(0),
+            anchor_m: [0.1, 0.0],
+            child_point_m: [0.0, -0.2],
+            kind: crate::JointInfoKind::Prismatic {
+                axis: [0.0, -1.0],
+                stroke_m: [0.0, 0.5],
+            },
+        }];
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let poses = [
+            crate::BodyPose {
+                position: [1.0, 2.0],
+                angle: half_pi,
+            },
+            crate::BodyPose {
+                position: [0.7, 2.1],
+                angle: half_pi,
+            },
+        ];
+        let mut columns = Columns::new(&info);
+        let frame = Frame {
+            t: 0.0,
+            step: 0,
+            q: &[],
+            u: &[],
+            bodies: &poses,
+            com: [0.0, 0.0],
+            contacts: &[],
+            springs: &[],
+            shapes_active: &[],
+            energy: EnergySample::default(),
+            actuator_torque: 0.0,
+        };
+        columns.push(&frame, &Drawing::new(&info));
+        let [a, b] = columns.links[0];
+        let close =
+            |p: [f32; 2], q: [f32; 2]| (p[0] - q[0]).abs() < 1e-6 && (p[1] - q[1]).abs() < 1e-6;
+        assert!(close(a, [1.0, 2.1]), "{a:?}");
+        assert!(close(b, [0.9, 2.1]), "{b:?}");
+        // Its rail in the parent's frame: the anchor plus 0 to 0.5 along (0, −1).
+        assert_eq!(info.joints[0].rail(), Some((0, [[0.1, 0.0], [0.1, -0.5]])));
     }
 
     #[test]

@@ -36,6 +36,34 @@ fn read_release(c: &Table<'_>) -> Result<Release, SceneError> {
     })
 }
 
+/// The pulse's magnitude: `torque` (N m) for a revolute joint, `force` (N) along the axis
+/// for a prismatic one (docs/physics.md §7); the key of the other kind is an error.
+fn read_pulse_magnitude(c: &Table<'_>, body: &Body, name: &str) -> Result<f64, SceneError> {
+    let prismatic = matches!(
+        body.joint.as_ref().map(|j| j.kind),
+        Some(JointKind::Prismatic { .. })
+    );
+    let (key, num, other, kind) = if prismatic {
+        (
+            "force",
+            Num::any("N"),
+            "torque",
+            "a prismatic joint: its motor pushes along the axis; give force in N",
+        )
+    } else {
+        (
+            "torque",
+            Num::any("N m"),
+            "force",
+            "a revolute joint: its motor turns; give torque in N m",
+        )
+    };
+    if c.get(other).is_some() {
+        return Err(c.error_at_key(other, format!("'{name}' is on {kind}")));
+    }
+    c.f64(key, num)
+}
+
 pub(crate) fn read_controller(
     c: &Table<'_>,
     bodies: &[Body],
@@ -48,19 +76,25 @@ pub(crate) fn read_controller(
         &["passive", "momentum_impulse", "pulse"],
         Some("passive"),
     )?;
-    // The motor (and a brake) acts in a revolute joint; `to_body`: the parent must be a
-    // body (a brake locks two bodies), not the world.
-    let jointed = |key: &'static str, to_body: bool| -> Result<usize, SceneError> {
+    // The body on the joint a controller drives. `revolute_only`: the momentum-impulse
+    // controller's motor and brake act on a relative rotation, so its flywheel must turn
+    // on a revolute joint whose parent is a body (a brake locks two bodies), not the
+    // world; the pulse drives any revolute or prismatic joint, pinned bases included.
+    let jointed = |key: &'static str, revolute_only: bool| -> Result<usize, SceneError> {
         let b = body_names.resolve(c, key)?;
         let name = body_names.get(b);
         let problem = match &bodies[b].joint {
             None => Some(format!(
                 "'{name}' is a floating base; the motor acts between a body and its parent"
             )),
-            Some(j) if j.kind != JointKind::Revolute => Some(format!(
-                "'{name}' is not on a revolute joint; this controller drives revolute joints only"
+            Some(j) if matches!(j.kind, JointKind::Fixed { .. }) => Some(format!(
+                "'{name}' is a fixed base; it has no joint to drive"
             )),
-            Some(j) if to_body && j.parent.is_none() => Some(format!(
+            Some(j) if revolute_only && j.kind != JointKind::Revolute => Some(format!(
+                "'{name}' slides on a prismatic joint; the flywheel's motor and brake act on \
+                 a relative rotation (a revolute joint)"
+            )),
+            Some(j) if revolute_only && j.parent.is_none() => Some(format!(
                 "'{name}' is pinned to the world; the flywheel's motor and brake act between \
                  two bodies"
             )),
@@ -82,7 +116,7 @@ pub(crate) fn read_controller(
         }),
         _ => {
             let joint_body = jointed("joint", false)?;
-            let torque = c.f64("torque", Num::any("N m"))?;
+            let torque = read_pulse_magnitude(c, &bodies[joint_body], body_names.get(joint_body))?;
             let pulse_duration = c.f64("pulse_duration", Num::positive("s"))?;
             let period = match (
                 c.opt_f64("period", Num::positive("s"))?,

@@ -18,7 +18,8 @@ pub struct StepView<'a> {
     pub events: &'a [Event],
     /// Whether each shape is switched on.
     pub shapes_active: &'a [bool],
-    /// Motor torque commanded in this step, N m.
+    /// Motor torque commanded in this step, N m (the first torque command; without one, the
+    /// first joint force: N on a prismatic joint, docs/physics.md §7).
     pub torque: f64,
 }
 

@@ -2,9 +2,10 @@
 
 use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
+use hopsim_model::JointKind;
 use hopsim_record::{
     recorded_time, BodyInfo, BodyPose, ContactSample, CoordinateUnit, EnergySample, Event,
-    EventKind, Frame, RecorderSet, RecordingInfo, Stop,
+    EventKind, Frame, JointInfo, JointInfoKind, RecorderSet, RecordingInfo, Stop,
 };
 use hopsim_scene::Scene;
 use std::path::PathBuf;
@@ -44,12 +45,50 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
         contacts: (0..model.contact_count())
             .map(|i| model.contact_name(i).to_string())
             .collect(),
+        joints: joint_infos(scene),
         springs: model.springs.iter().map(|s| s.name.clone()).collect(),
         terrain: model.terrain.clone(),
         dt: scene.settings.dt,
         weight_newtons: model.total_mass() * model.gravity.norm(),
         actuated: !matches!(scene.controller, ControllerConfig::Passive),
     }
+}
+
+/// The revolute and prismatic joints of `scene` (docs/physics.md §7): a prismatic joint's rail
+/// spans its limits, or without them the initial extension.
+fn joint_infos(scene: &Scene) -> Vec<JointInfo> {
+    let model = &scene.model;
+    let point = |v: hopsim_model::Vec2| [v.x, v.y];
+    model
+        .bodies
+        .iter()
+        .enumerate()
+        .filter_map(|(b, body)| {
+            let joint = body.joint.as_ref()?;
+            let kind = match joint.kind {
+                JointKind::Fixed { .. } => return None,
+                JointKind::Revolute => JointInfoKind::Revolute,
+                JointKind::Prismatic { axis } => {
+                    let s0 = model.coordinate(b).map_or(0.0, |i| scene.initial.q[i]);
+                    let stroke_m = match joint.limits {
+                        Some(l) if l.lower.is_finite() && l.upper.is_finite() => [l.lower, l.upper],
+                        _ => [s0.min(0.0), s0.max(0.0)],
+                    };
+                    JointInfoKind::Prismatic {
+                        axis: point(axis),
+                        stroke_m,
+                    }
+                }
+            };
+            Some(JointInfo {
+                body: b,
+                parent: joint.parent,
+                anchor_m: point(joint.pivot_in_parent),
+                child_point_m: point(-joint.com_in_child),
+                kind,
+            })
+        })
+        .collect()
 }
 
 /// Builds frames from steps and passes them, with the events, to a [`RecorderSet`].

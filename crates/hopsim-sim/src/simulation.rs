@@ -322,7 +322,14 @@ impl<'s> Simulation<'s> {
             record: self.stepper.record(),
             events: &self.events,
             shapes_active: &self.shapes_active,
-            torque: self.actuation.torques.first().map_or(0.0, |t| t.torque),
+            torque: match (
+                self.actuation.torques.first(),
+                self.actuation.joint_forces.first(),
+            ) {
+                (Some(t), _) => t.torque,
+                (None, Some(f)) => f.force,
+                (None, None) => 0.0,
+            },
         }
     }
 }

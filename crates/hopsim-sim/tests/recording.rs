@@ -195,3 +195,102 @@ fn recordings_name_each_coordinate_with_its_unit() {
     // Robbit: the floating disc and the flywheel's angle.
     assert_eq!(columns("robbit.toml"), ["x_m", "y_m", "phi_rad", "psi_rad"]);
 }
+
+/// The hopper's prismatic leg is described in the recording (docs/physics.md §7): its link,
+/// drawn from the anchor on the body to the foot's joint point, has length `s` and lies
+/// along the body-rotated axis at every step; the MCAP metadata lists the joint and the
+/// Foxglove scene draws its rail (the limits `[0.1, 0.5]` m along −y) in the body's frame.
+#[test]
+fn a_prismatic_leg_is_described_and_drawn_along_its_axis() {
+    let (scene, dir, mut recorder) = mcap_run("classic/hopper.toml", "0.5");
+    let info = recording_info(&scene);
+    let leg = info
+        .joints
+        .iter()
+        .find(|j| j.is_prismatic())
+        .unwrap()
+        .clone();
+    assert_eq!((leg.body, leg.parent), (1, Some(0)));
+    /// The largest deviation of the link from `s` along `R(φ) axis`, m.
+    struct Links {
+        leg: hopsim_record::JointInfo,
+        worst: f64,
+        steps: usize,
+    }
+    impl Observer for Links {
+        fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+            let k = v.kinematics;
+            let poses: Vec<hopsim_record::BodyPose> = (0..k.position.len())
+                .map(|b| hopsim_record::BodyPose {
+                    position: [k.position[b].x, k.position[b].y],
+                    angle: k.angle[b],
+                })
+                .collect();
+            let [a, b] = self.leg.link(&poses);
+            let (q, (sin, cos)) = (v.state.q.as_slice(), k.angle[0].sin_cos());
+            // Anchor at the body's centre of mass (pivot [0, 0]); axis (0, −1) rotated by φ.
+            let expected_end = [a[0] + q[3] * sin, a[1] - q[3] * cos];
+            let errors = [
+                a[0] - q[0],
+                a[1] - q[1],
+                b[0] - expected_end[0],
+                b[1] - expected_end[1],
+            ];
+            self.worst = errors.iter().fold(self.worst, |w, e| w.max(e.abs()));
+            self.steps += 1;
+            Ok(())
+        }
+    }
+    let mut links = Links {
+        leg,
+        worst: 0.0,
+        steps: 0,
+    };
+    hopsim_sim::run(&scene, &mut (&mut recorder, &mut links)).unwrap();
+    recorder.finish().unwrap();
+    assert!(links.steps > 1000);
+    // Round-off of a few additions of numbers below 1 m.
+    assert!(
+        links.worst < 1e-14,
+        "link off its axis by {:e} m",
+        links.worst
+    );
+
+    let bytes = std::fs::read(dir.path().join("run.mcap")).unwrap();
+    let summary = mcap::read::Summary::read(&bytes).unwrap().unwrap();
+    let index = &summary.metadata_indexes[0];
+    let meta = mcap::read::metadata(&bytes, index).unwrap();
+    let joints: serde_json::Value = serde_json::from_str(&meta.metadata["joints"]).unwrap();
+    assert_eq!(
+        joints,
+        serde_json::json!([{
+            "kind": "prismatic", "body": "foot", "parent": "body", "axis": [0.0, -1.0],
+            "stroke_m": [0.1, 0.5], "anchor_m": [0.0, 0.0], "child_point_m": [0.0, 0.0]
+        }])
+    );
+    let scene_update = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(Result::unwrap)
+        .find(|m| m.channel.topic == hopsim_record::FOXGLOVE_SCENE_TOPIC)
+        .unwrap();
+    let update: serde_json::Value = serde_json::from_slice(&scene_update.data).unwrap();
+    let body = update["entities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["id"] == "body/body")
+        .unwrap();
+    // Foxglove's x–z plane: (x, y) is drawn at (x, 0, y).
+    let rail = serde_json::json!([
+        {"x": 0.0, "y": 0.0, "z": -0.1},
+        {"x": 0.0, "y": 0.0, "z": -0.5}
+    ]);
+    assert!(
+        body["lines"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|l| l["points"] == rail),
+        "no rail in {body}"
+    );
+}

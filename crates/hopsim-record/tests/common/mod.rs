@@ -5,7 +5,8 @@
 
 use hopsim_model::{Shape, Terrain, Vec2};
 use hopsim_record::{
-    BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, RecordingInfo,
+    BodyInfo, BodyPose, ContactSample, EnergySample, Event, EventKind, Frame, JointInfo,
+    JointInfoKind, RecordingInfo,
 };
 use std::process::Command;
 
@@ -47,6 +48,13 @@ pub fn info() -> RecordingInfo {
             },
         ],
         contacts: vec!["disc/ground".into(), "cane/ground".into()],
+        joints: vec![JointInfo {
+            body: 1,
+            parent: Some(0),
+            anchor_m: [0.0, 0.0],
+            child_point_m: [0.0, 0.0],
+            kind: JointInfoKind::Revolute,
+        }],
         springs: vec!["spring".into()],
         terrain: Terrain::step(1.0, 0.05),
         dt: 2e-4,
