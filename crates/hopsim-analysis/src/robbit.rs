@@ -513,12 +513,19 @@ pub fn stance(
     let i_r = p.flywheel_inertia;
     let psi_dot = |t: f64| flywheel_speed + torque * t / i_r;
     let stored = |t: f64, phi_dot: f64| i_red * (psi_dot(t) - phi_dot);
-    let f = |_t: f64, y: &[f64; 2]| [y[1], p.stance_acceleration(torque, y[0], y[1])];
+    // The state carries (cos φ, sin φ) with (cos φ)' = −φ̇ sin φ, (sin φ)' = φ̇ cos φ, so the
+    // right-hand side needs no `sin_cos` (half the cost of the stance otherwise): they are
+    // integrated to the same tolerance as φ.
+    let f = |_t: f64, y: &[f64; 4]| {
+        let [_, rate, cos, sin] = *y;
+        let acceleration = p.stance_acceleration_at(torque, (sin, cos), rate);
+        [rate, acceleration, -rate * sin, rate * cos]
+    };
     let mut min_normal_force = f64::INFINITY;
     let mut max_friction_ratio: f64 = 0.0;
     let mut reversals = 0;
     let mut last_rate = start.angular_velocity;
-    let mut track = |y: &[f64; 2]| {
+    let mut track = |y: &[f64; 4]| {
         if y[1] != 0.0 {
             if last_rate != 0.0 && y[1].signum() != last_rate.signum() {
                 reversals += 1;
@@ -533,7 +540,8 @@ pub fn stance(
             max_friction_ratio = max_friction_ratio.max(ft.abs() / fnorm);
         }
     };
-    let y0 = [start.angle, start.angular_velocity];
+    let (sin0, cos0) = start.angle.sin_cos();
+    let y0 = [start.angle, start.angular_velocity, cos0, sin0];
     track(&y0);
     let end = integrate_to_event(
         &f,
