@@ -14,7 +14,10 @@
 //!   kinetic energy by exactly `ΔE` [3.6].
 
 use crate::error::{AnalysisError, Result};
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::allocator::Allocator;
+use nalgebra::{
+    Cholesky, DMatrix, DVector, DefaultAllocator, Dim, Dyn, OMatrix, OVector, SMatrix, SVector,
+};
 
 fn cholesky(matrix: &DMatrix<f64>, what: &'static str) -> Result<Cholesky<f64, Dyn>> {
     if !matrix.is_square() {
@@ -24,10 +27,18 @@ fn cholesky(matrix: &DMatrix<f64>, what: &'static str) -> Result<Cholesky<f64, D
             matrix.ncols()
         )));
     }
+    factor(matrix.clone(), what)
+}
+
+/// The Cholesky factor of a symmetric positive definite `matrix` (any storage).
+fn factor<D: Dim>(matrix: OMatrix<f64, D, D>, what: &'static str) -> Result<Cholesky<f64, D>>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
     if matrix.iter().any(|x| !x.is_finite()) {
         return Err(AnalysisError::NotPositiveDefinite { what });
     }
-    Cholesky::new(matrix.clone()).ok_or(AnalysisError::NotPositiveDefinite { what })
+    Cholesky::new(matrix).ok_or(AnalysisError::NotPositiveDefinite { what })
 }
 
 fn check_dimensions(
@@ -113,19 +124,50 @@ pub fn inelastic_impact(
     velocity_before: &DVector<f64>,
 ) -> Result<InelasticImpact> {
     check_dimensions(mass, jacobian, Some(velocity_before))?;
-    let m_inv_jt = inverse_mass_times_transpose(mass, jacobian)?;
-    let g = jacobian * &m_inv_jt;
-    let chol = cholesky(&g, "the Delassus matrix J M⁻¹ Jᵀ")?;
-    let approach = jacobian * velocity_before;
-    let percussion = -chol.solve(&approach);
-    let velocity_after = velocity_before + &m_inv_jt * &percussion;
-    // ½ u⁻ᵀ M_c u⁻ = −½ (J u⁻)ᵀ G⁻¹ (J u⁻) = ½ (J u⁻)ᵀ Λ.
-    let energy_change = 0.5 * approach.dot(&percussion);
+    if !mass.is_square() {
+        cholesky(mass, "the mass matrix")?;
+    }
+    let (velocity_after, percussion, energy_change) =
+        impact_of(mass.clone(), jacobian, velocity_before)?;
     Ok(InelasticImpact {
         velocity_after,
         percussion,
         energy_change,
     })
+}
+
+/// [`inelastic_impact`] with sizes known at compile time (`n` coordinates, `k` rows), on
+/// the stack: `(u⁺, Λ, ΔE)`.
+pub fn inelastic_impact_fixed<const N: usize, const K: usize>(
+    mass: &SMatrix<f64, N, N>,
+    jacobian: &SMatrix<f64, K, N>,
+    velocity_before: &SVector<f64, N>,
+) -> Result<(SVector<f64, N>, SVector<f64, K>, f64)> {
+    impact_of(*mass, jacobian, velocity_before)
+}
+
+/// The impact of [`inelastic_impact`] for any storage: `u⁺`, `Λ` and `ΔE`.
+fn impact_of<N: Dim, K: Dim>(
+    mass: OMatrix<f64, N, N>,
+    jacobian: &OMatrix<f64, K, N>,
+    velocity_before: &OVector<f64, N>,
+) -> Result<(OVector<f64, N>, OVector<f64, K>, f64)>
+where
+    DefaultAllocator: Allocator<N, N>
+        + Allocator<K, N>
+        + Allocator<N, K>
+        + Allocator<K, K>
+        + Allocator<N>
+        + Allocator<K>,
+{
+    let m_inv_jt = factor(mass, "the mass matrix")?.solve(&jacobian.transpose());
+    let g = jacobian * &m_inv_jt;
+    let approach = jacobian * velocity_before;
+    let percussion = -factor(g, "the Delassus matrix J M⁻¹ Jᵀ")?.solve(&approach);
+    let velocity_after = velocity_before + &m_inv_jt * &percussion;
+    // ½ u⁻ᵀ M_c u⁻ = −½ (J u⁻)ᵀ G⁻¹ (J u⁻) = ½ (J u⁻)ᵀ Λ.
+    let energy_change = 0.5 * approach.dot(&percussion);
+    Ok((velocity_after, percussion, energy_change))
 }
 
 /// Energy change `ΔE = ½ u⁻ᵀ M_c u⁻` of a restitution-0 impact [2.21].

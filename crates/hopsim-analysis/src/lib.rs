@@ -16,6 +16,7 @@
 //! `docs/analysis.md` documents every equation, derivation and sign convention.
 
 pub mod cube;
+pub mod dop853;
 pub mod error;
 pub mod fixed_points;
 pub mod grid;

@@ -4,6 +4,7 @@
 //! Levenberg–Marquardt least-squares solver with a finite-difference Jacobian, and the
 //! eigenvalues of a 2 × 2 matrix.
 
+use crate::dop853;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
@@ -91,22 +92,32 @@ pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, tolerance: f64) -> O
 /// `f(start)` itself is not treated as a root (the caller removes a known root there,
 /// e.g. by dividing by `t`). Returns `None` when no sign change is found.
 pub fn first_sign_change(
-    mut f: impl FnMut(f64) -> f64,
+    f: impl FnMut(f64) -> f64,
     start: f64,
     end: f64,
     steps: usize,
     tolerance: f64,
 ) -> Option<f64> {
-    let steps = steps.max(1);
-    let h = (end - start) / steps as f64;
+    first_sign_change_lipschitz(f, start, end, steps, f64::INFINITY, tolerance)
+}
+
+/// [`first_sign_change`] for an `f` whose slope is bounded, `|f'| ≤ lipschitz`: from a
+/// point with value `f(t)` no root lies within `|f(t)| / lipschitz`, so the scan steps by
+/// the larger of that distance and the equal sub-interval. It finds every root the
+/// equal-step scan finds, with fewer evaluations where `|f|` is large.
+pub fn first_sign_change_lipschitz(
+    mut f: impl FnMut(f64) -> f64,
+    start: f64,
+    end: f64,
+    steps: usize,
+    lipschitz: f64,
+    tolerance: f64,
+) -> Option<f64> {
+    let h = (end - start) / steps.max(1) as f64;
     let mut t0 = start;
     let mut f0 = f(t0);
-    for i in 1..=steps {
-        let t1 = if i == steps {
-            end
-        } else {
-            start + h * i as f64
-        };
+    while t0 < end {
+        let t1 = (t0 + h.max(f0.abs() / lipschitz)).min(end);
         let f1 = f(t1);
         if f1 == 0.0 {
             return Some(t1);
@@ -332,12 +343,14 @@ pub enum OdeEnd<const N: usize, B> {
     },
 }
 
-/// Integrates `y' = f(t, y)` from `(t0, y0)` with adaptive Dormand–Prince 5(4) steps until
-/// `event(t, y)` first reaches zero from below; the crossing inside the step is located by
-/// Brent's method on the step size (the fifth-order solution of a shortened step from the
-/// step's start), to `1e-15 · max_step`. An event value ≥ 0 at the start is an event at
-/// `t0`. A crossing and re-crossing within one step is not seen (steps are bounded by
-/// `max_step`). After every accepted step `accepted(t, y)` may return `Some(reason)` to stop.
+/// Integrates `y' = f(t, y)` from `(t0, y0)` with adaptive Dormand–Prince 8(5,3) steps
+/// ([`crate::dop853`]) until `event(t, y)` first reaches zero from below; the crossing
+/// inside the step is located by Brent's method on the step's seventh-order continuous
+/// extension, to `1e-15 · max_step`, and the state there is the eighth-order solution of a
+/// step of that length from the step's start. An event value ≥ 0
+/// at the start is an event at `t0`. A crossing and re-crossing within one step is not
+/// seen (steps are bounded by `max_step`). After every accepted step `accepted(t, y)` may
+/// return `Some(reason)` to stop.
 pub fn integrate_to_event<const N: usize, B>(
     f: &impl Fn(f64, &[f64; N]) -> [f64; N],
     t0: f64,
@@ -351,42 +364,42 @@ pub fn integrate_to_event<const N: usize, B>(
         return OdeEnd::Event { t, y };
     }
     let mut h = settings.initial_step.min(settings.max_step);
-    // The first stage of the next step (first same as last: the accepted step's last stage).
+    // The first stage of the step: `f` at its start state.
     let mut k0 = f(t, &y);
     for _ in 0..settings.max_steps {
-        let (y_new, err, k_last) = dormand_prince_stages(f, t, &y, &k0, h);
-        let norm = error_norm(&y, &y_new, &err, settings.rtol, settings.atol);
-        if !norm.is_finite() {
+        let step = dop853::stages(f, t, &y, &k0, h);
+        let y_new = step.y;
+        let errors = (&step.err5, &step.err3);
+        let norm = dop853::error_norm(&y, &y_new, errors, h, settings.rtol, settings.atol);
+        if !norm.is_finite() || !y_new.iter().all(|v| v.is_finite()) {
             return OdeEnd::NonFinite { t };
         }
         if norm > 1.0 {
-            h *= (0.9 * norm.powf(-0.2)).max(0.2);
+            h *= (0.9 * dop853::step_factor(norm)).max(0.2);
             continue;
         }
         if event(t + h, &y_new) >= 0.0 {
-            let (t_start, y_start) = (t, y);
-            let step = |s: f64| dormand_prince_stages(f, t_start, &y_start, &k0, s).0;
+            let dense = step.dense(f, t, &y, h);
             let value = |s: f64| {
                 if s == 0.0 {
-                    event(t_start, &y_start)
+                    event(t, &y)
                 } else {
-                    event(t_start + s, &step(s))
+                    event(t + s, &dense.at(s))
                 }
             };
             let s = brent(value, 0.0, h, 1e-15 * settings.max_step).unwrap_or(h);
-            let y_event = step(s);
             return OdeEnd::Event {
-                t: t_start + s,
-                y: y_event,
+                t: t + s,
+                y: dop853::stages(f, t, &y, &k0, s).y,
             };
         }
         t += h;
         y = y_new;
-        k0 = k_last;
+        k0 = f(t, &y);
         if let Some(reason) = accepted(t, &y) {
             return OdeEnd::Stopped { t, reason };
         }
-        h = (h * (0.9 * norm.max(1e-10).powf(-0.2)).min(5.0)).min(settings.max_step);
+        h = (h * (0.9 * dop853::step_factor(norm.max(1e-16))).min(5.0)).min(settings.max_step);
     }
     OdeEnd::StepLimit { t }
 }

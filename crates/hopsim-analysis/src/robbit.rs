@@ -32,7 +32,7 @@ use crate::impact;
 use crate::numerics::{integrate_to_event, OdeEnd, OdeSettings};
 use crate::template::{self, BodyState, NoGaitReason, TemplateParams};
 use crate::STANDARD_GRAVITY;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, SMatrix, SVector};
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt;
@@ -208,26 +208,18 @@ impl RobbitParams {
 
     /// `M = diag(m, m, I_S, I_R)`.
     pub fn mass_matrix(&self) -> DMatrix<f64> {
-        let m = self.total_mass();
-        DMatrix::from_diagonal(&DVector::from_vec(vec![
-            m,
-            m,
-            self.body_inertia,
-            self.flywheel_inertia,
-        ]))
+        DMatrix::from_column_slice(4, 4, mass_matrix_fixed(self).as_slice())
     }
 
     /// Contact rows `w_Tᵀ = (1, 0, R − a cos φ, 0)`, `w_Nᵀ = (0, 1, −a sin φ, 0)` [2.5–2.7],
     /// plus the brake row `B = (0, 0, 1, −1)` when `locked`.
     pub fn constraint_rows(&self, phi: f64, contact: bool, locked: bool) -> DMatrix<f64> {
-        let a = self.eccentricity;
         let mut rows = Vec::new();
         if contact {
-            rows.extend([1.0, 0.0, self.radius - a * phi.cos(), 0.0]);
-            rows.extend([0.0, 1.0, -a * phi.sin(), 0.0]);
+            rows.extend(contact_rows(self, phi).transpose().iter());
         }
         if locked {
-            rows.extend([0.0, 0.0, 1.0, -1.0]);
+            rows.extend(BRAKE_ROW.iter());
         }
         DMatrix::from_row_slice(rows.len() / 4, 4, &rows)
     }
@@ -376,12 +368,34 @@ pub struct Brake {
     pub normal_velocity: f64,
 }
 
-fn velocity(u: &[f64; 4]) -> DVector<f64> {
-    DVector::from_row_slice(u)
+/// The contact rows `(w_Tᵀ; w_Nᵀ)` at angle `phi` (see [`RobbitParams::constraint_rows`]),
+/// on the stack.
+fn contact_rows(p: &RobbitParams, phi: f64) -> SMatrix<f64, 2, 4> {
+    let a = p.eccentricity;
+    let (sin, cos) = phi.sin_cos();
+    SMatrix::<f64, 2, 4>::new(1.0, 0.0, p.radius - a * cos, 0.0, 0.0, 1.0, -a * sin, 0.0)
 }
 
-fn array4(v: &DVector<f64>) -> [f64; 4] {
-    [v[0], v[1], v[2], v[3]]
+/// The brake row `B = (0, 0, 1, −1)`.
+const BRAKE_ROW: SMatrix<f64, 1, 4> = SMatrix::<f64, 1, 4>::new(0.0, 0.0, 1.0, -1.0);
+
+/// The contact rows with the brake row below them.
+fn contact_and_brake_rows(p: &RobbitParams, phi: f64) -> SMatrix<f64, 3, 4> {
+    let mut rows = SMatrix::<f64, 3, 4>::zeros();
+    rows.fixed_rows_mut::<2>(0).copy_from(&contact_rows(p, phi));
+    rows.fixed_rows_mut::<1>(2).copy_from(&BRAKE_ROW);
+    rows
+}
+
+/// `M = diag(m, m, I_S, I_R)` on the stack.
+fn mass_matrix_fixed(p: &RobbitParams) -> SMatrix<f64, 4, 4> {
+    let m = p.total_mass();
+    SMatrix::<f64, 4, 4>::from_diagonal(&SVector::<f64, 4>::new(
+        m,
+        m,
+        p.body_inertia,
+        p.flywheel_inertia,
+    ))
 }
 
 /// Map 1: the brake at the section state `z` with impulse limit `ζ0`, resolved with the
@@ -389,25 +403,25 @@ fn array4(v: &DVector<f64>) -> [f64; 4] {
 /// `w_T, w_N, B`); if its normal percussion is ≥ 0 the disc stays on the ground
 /// ([`NoCycle::NoLiftOff`]), otherwise the contact opens and only the lock acts.
 pub fn brake(p: &RobbitParams, z: &SectionState, impulse_limit: f64) -> CycleResult<Brake> {
-    let mass = p.mass_matrix();
-    let u = velocity(&z.velocities(p, impulse_limit));
-    let closed = impact::inelastic_impact(&mass, &p.constraint_rows(z.angle, true, true), &u)
-        .map_err(numerical)?;
-    let normal_percussion = closed.percussion[1];
+    let mass = mass_matrix_fixed(p);
+    let u = SVector::<f64, 4>::from(z.velocities(p, impulse_limit));
+    let (_, closed, _) =
+        impact::inelastic_impact_fixed(&mass, &contact_and_brake_rows(p, z.angle), &u)
+            .map_err(numerical)?;
+    let normal_percussion = closed[1];
     if normal_percussion >= 0.0 {
         return Err(NoCycle::NoLiftOff { normal_percussion });
     }
-    let open = impact::inelastic_impact(&mass, &p.constraint_rows(z.angle, false, true), &u)
-        .map_err(numerical)?;
-    let after = array4(&open.velocity_after);
-    let normal_velocity = (p.constraint_rows(z.angle, true, false) * &open.velocity_after)[1];
+    let (after, lock, energy_change) =
+        impact::inelastic_impact_fixed(&mass, &BRAKE_ROW, &u).map_err(numerical)?;
+    let normal_velocity = (contact_rows(p, z.angle) * after)[1];
     if normal_velocity.is_nan() || normal_velocity <= 0.0 {
         return Err(NoCycle::NoLiftOff { normal_percussion });
     }
     Ok(Brake {
-        velocity_after: after,
-        impulse: open.percussion[0],
-        energy_loss: -open.energy_change,
+        velocity_after: after.into(),
+        impulse: lock[0],
+        energy_loss: -energy_change,
         normal_velocity,
     })
 }
@@ -428,17 +442,22 @@ pub struct Touchdown {
 /// Map 3: restitution-0, no-slip touchdown at angle `phi` through the collision matrix
 /// (docs/physics.md §3), rows `w_T, w_N` plus the brake row `B` when the flywheel is locked.
 pub fn touchdown(p: &RobbitParams, phi: f64, velocity_before: &[f64; 4]) -> Result<Touchdown> {
-    let locked = p.touchdown == FlywheelAtTouchdown::Locked;
-    let hit = impact::inelastic_impact(
-        &p.mass_matrix(),
-        &p.constraint_rows(phi, true, locked),
-        &velocity(velocity_before),
-    )?;
+    let mass = mass_matrix_fixed(p);
+    let u = SVector::<f64, 4>::from(*velocity_before);
+    let (after, percussion, energy_change) = if p.touchdown == FlywheelAtTouchdown::Locked {
+        let (after, percussion, energy) =
+            impact::inelastic_impact_fixed(&mass, &contact_and_brake_rows(p, phi), &u)?;
+        (after, [percussion[0], percussion[1]], energy)
+    } else {
+        let (after, percussion, energy) =
+            impact::inelastic_impact_fixed(&mass, &contact_rows(p, phi), &u)?;
+        (after, [percussion[0], percussion[1]], energy)
+    };
     Ok(Touchdown {
-        velocity_after: array4(&hit.velocity_after),
-        energy_loss: -hit.energy_change,
-        tangential_percussion: hit.percussion[0],
-        normal_percussion: hit.percussion[1],
+        velocity_after: after.into(),
+        energy_loss: -energy_change,
+        tangential_percussion: percussion[0],
+        normal_percussion: percussion[1],
     })
 }
 
@@ -481,7 +500,7 @@ pub struct Stance {
 
 /// Map 4: rolling from `(φ0, φ̇0)` with flywheel speed `ψ̇0` under the motor torque `T` until
 /// `ζ = I_red (ψ̇ − φ̇)` first reaches `ζ0` ([5.15] with `ψ̇ = ψ̇0 + T t / I_R`), by an adaptive
-/// Dormand–Prince 5(4) method (rtol 1e-10) with the event located by Brent's method.
+/// Dormand–Prince 8(5,3) method (rtol 1e-10) with the event located by Brent's method.
 /// The stance ends at once when `ζ ≥ ζ0` already at touchdown.
 pub fn stance(
     p: &RobbitParams,
@@ -494,12 +513,19 @@ pub fn stance(
     let i_r = p.flywheel_inertia;
     let psi_dot = |t: f64| flywheel_speed + torque * t / i_r;
     let stored = |t: f64, phi_dot: f64| i_red * (psi_dot(t) - phi_dot);
-    let f = |_t: f64, y: &[f64; 2]| [y[1], p.stance_acceleration(torque, y[0], y[1])];
+    // The state carries (cos φ, sin φ) with (cos φ)' = −φ̇ sin φ, (sin φ)' = φ̇ cos φ, so the
+    // right-hand side needs no `sin_cos` (half the cost of the stance otherwise): they are
+    // integrated to the same tolerance as φ.
+    let f = |_t: f64, y: &[f64; 4]| {
+        let [_, rate, cos, sin] = *y;
+        let acceleration = p.stance_acceleration_at(torque, (sin, cos), rate);
+        [rate, acceleration, -rate * sin, rate * cos]
+    };
     let mut min_normal_force = f64::INFINITY;
     let mut max_friction_ratio: f64 = 0.0;
     let mut reversals = 0;
     let mut last_rate = start.angular_velocity;
-    let mut track = |y: &[f64; 2]| {
+    let mut track = |y: &[f64; 4]| {
         if y[1] != 0.0 {
             if last_rate != 0.0 && y[1].signum() != last_rate.signum() {
                 reversals += 1;
@@ -514,7 +540,8 @@ pub fn stance(
             max_friction_ratio = max_friction_ratio.max(ft.abs() / fnorm);
         }
     };
-    let y0 = [start.angle, start.angular_velocity];
+    let (sin0, cos0) = start.angle.sin_cos();
+    let y0 = [start.angle, start.angular_velocity, cos0, sin0];
     track(&y0);
     let end = integrate_to_event(
         &f,

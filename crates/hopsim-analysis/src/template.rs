@@ -23,7 +23,9 @@
 use crate::error::{require_finite, require_positive, AnalysisError, Result};
 use crate::grid::{par_map, Progress};
 use crate::impact;
-use crate::numerics::{brent, dormand_prince_step, error_norm, first_sign_change, linspace, sinc};
+use crate::numerics::{
+    brent, dormand_prince_step, error_norm, first_sign_change_lipschitz, linspace, sinc,
+};
 use crate::STANDARD_GRAVITY;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -480,8 +482,10 @@ pub struct Flight {
 /// The root at `t = 0` is divided out analytically:
 /// `g_N(t)/t = ẏ − ½ g t − a ω sin(φ₀ + ωt/2) sinc(ωt/2)`, which equals `γ_N⁺ > 0` at
 /// `t = 0`. Since `|a (cos φ(t) − cos φ₀)| ≤ 2|a|`, the root lies before
-/// `t_max = (ẏ + sqrt(ẏ² + 4 g |a|)) / g`; `[0, t_max]` is scanned with steps of at most
-/// 0.05 rad of rotation and the first sign change is refined by Brent's method.
+/// `t_max = (ẏ + sqrt(ẏ² + 4 g |a|)) / g`; `[0, t_max]` is scanned with steps of 0.05 rad
+/// of rotation (at most `t_max/256`), or longer where `|g_N/t|` divided by its slope bound
+/// `g + |a| ω²` shows that no root is nearer, and the first sign change is refined by
+/// Brent's method.
 pub fn flight(p: &TemplateParams, start: &BodyState) -> std::result::Result<Flight, NoGaitReason> {
     let a = p.eccentricity();
     let phi0 = start.q[2];
@@ -495,7 +499,10 @@ pub fn flight(p: &TemplateParams, start: &BodyState) -> std::result::Result<Flig
         |t: f64| vy - 0.5 * g * t - a * w * (phi0 + 0.5 * w * t).sin() * sinc(0.5 * w * t);
     let t_max = (vy + (vy * vy + 4.0 * g * a.abs()).sqrt()) / g * (1.0 + 1e-9) + 1e-12;
     let steps = ((w.abs() * t_max / 0.05).ceil() as usize).clamp(256, 1_000_000);
-    let duration = first_sign_change(gap_over_t, 0.0, t_max, steps, 1e-15 * t_max.max(1e-6))
+    // |d/dt (g_N/t)| ≤ max |g_N''| ≤ g + |a| ω²: g_N/t is the mean of g_N' over [0, t].
+    let lipschitz = g + a.abs() * w * w;
+    let tolerance = 1e-15 * t_max.max(1e-6);
+    let duration = first_sign_change_lipschitz(gap_over_t, 0.0, t_max, steps, lipschitz, tolerance)
         .ok_or_else(|| NoGaitReason::Numerical {
             message: format!("no touchdown found within {t_max:.4e} s of flight"),
         })?;

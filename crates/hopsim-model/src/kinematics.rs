@@ -67,6 +67,8 @@ pub struct Kinematics {
     /// its ancestors' joints only); every other entry stays zero.
     pattern: Vec<usize>,
     pattern_start: Vec<usize>,
+    /// See [`Kinematics::jacobian_is_constant`].
+    jacobian_constant: bool,
     /// `J̇_b u` of each body's centre of mass (centripetal terms), m/s².
     bias: Vec<Vec2>,
     /// Joint position and velocity of each body (see [`Kinematics::joint_position`]).
@@ -98,7 +100,7 @@ impl Kinematics {
                 }
             }
         }
-        let (pattern, pattern_start) = jacobian_pattern(model);
+        let (pattern, pattern_start, jacobian_constant) = jacobian_pattern(model);
         let nan = Rotation {
             sin: f64::NAN,
             cos: f64::NAN,
@@ -114,6 +116,7 @@ impl Kinematics {
             jacobian: vec![0.0; 3 * nb * model.dof()],
             pattern,
             pattern_start,
+            jacobian_constant,
             bias: vec![Vec2::zeros(); nb],
             joint_position: vec![0.0; nb],
             joint_rate: vec![0.0; nb],
@@ -334,6 +337,13 @@ impl Kinematics {
         &self.pattern[self.pattern_start[row]..self.pattern_start[row + 1]]
     }
 
+    /// Whether every body's Jacobian, hence `M`, is the same at every `q` (docs/physics.md §7):
+    /// no lever arm turns with a coordinate, as for a floating base with bodies pivoting at
+    /// its centre of mass (Robbit) or bodies sliding on the world's axes.
+    pub fn jacobian_is_constant(&self) -> bool {
+        self.jacobian_constant
+    }
+
     /// Whether `M(q)` is diagonal at every `q`: every Jacobian row touches at most one
     /// coordinate (a base with bodies pivoting at their own centres of mass, as Robbit).
     pub fn mass_matrix_is_diagonal(&self) -> bool {
@@ -408,8 +418,9 @@ impl Kinematics {
     }
 }
 
-/// The structural sparsity of the Jacobian rows (see [`Kinematics::jacobian_pattern`]).
-fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
+/// The structural sparsity of the Jacobian rows (see [`Kinematics::jacobian_pattern`]) and
+/// whether every Jacobian is constant (see [`Kinematics::jacobian_is_constant`]).
+fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>, bool) {
     let mut rows: Vec<Vec<usize>> = Vec::with_capacity(3 * model.bodies.len());
     let union = |a: &[usize], b: &[usize]| {
         let mut u: Vec<usize> = a.iter().chain(b).copied().collect();
@@ -418,12 +429,16 @@ fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
         u
     };
     let empty: [Vec<usize>; 3] = Default::default();
+    // Whether body `b`'s Jacobian depends on `q`: through a lever arm turned by an angle
+    // that depends on `q` (a non-empty angle row), its own or inherited from its parent.
+    let mut varies = vec![false; model.bodies.len()];
     for (b, body) in model.bodies.iter().enumerate() {
         let coord = model.first_coordinate[b];
         let Some(joint) = body.joint.as_ref() else {
             rows.extend([vec![coord], vec![coord + 1], vec![coord + 2]]);
             continue;
         };
+        let parent_varies = joint.parent.is_some_and(|p| varies[p]);
         let parent = |k: usize| match joint.parent {
             Some(p) => rows[3 * p + k].clone(),
             None => empty[k].clone(),
@@ -438,13 +453,18 @@ fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
                 let mut levers: Vec<usize> = Vec::new();
                 if joint.pivot_in_parent != Vec2::zeros() {
                     levers = union(&levers, &pt);
+                    varies[b] |= !pt.is_empty();
                 }
                 if joint.com_in_child != Vec2::zeros() {
                     levers = union(&levers, &theta);
+                    varies[b] = true;
                 }
+                varies[b] |= parent_varies;
                 (union(&px, &levers), union(&py, &levers), theta)
             }
             JointKind::Prismatic { .. } => {
+                // The axis turns with the parent, and the lever of its rotation grows with s.
+                varies[b] = parent_varies || !pt.is_empty();
                 let levers = union(&pt, &[coord]);
                 (union(&px, &levers), union(&py, &levers), pt)
             }
@@ -458,7 +478,7 @@ fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>) {
         pattern.extend(row);
         start.push(pattern.len());
     }
-    (pattern, start)
+    (pattern, start, !varies.contains(&true))
 }
 
 /// `R v`, skipping the (possibly NaN) rotation of a body without geometry when `v = 0`.

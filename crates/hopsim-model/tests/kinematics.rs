@@ -466,3 +466,114 @@ fn non_finite_parameters_are_build_errors() {
     assert!(joint_error(3, &|j| j.stiffness = -1.0).contains("stiffness"));
     assert!(joint_error(4, &|j| j.parent = Some(4)).contains("earlier body"));
 }
+
+/// `M(q)` of `model` at `q`.
+fn mass_at(model: &Model, q: &DVector<f64>) -> DMatrix<f64> {
+    let n = model.dof();
+    let kinematics = evaluate(model, q, &DVector::zeros(n));
+    let mut m = vec![0.0; n * n];
+    model.mass_matrix_to(&kinematics, &mut m);
+    DMatrix::from_row_slice(n, n, &m)
+}
+
+/// `Kinematics::jacobian_is_constant` says exactly when the bodies' Jacobians are the same
+/// at every `q`, and then `M(q)` is too (the stepper builds and factors it once): a base
+/// with a flywheel pivoting at its centre of mass and a slider on the world's axis with a
+/// wheel at its centre are constant; a pendulum, a flywheel off the centre and a leg
+/// sliding along a turning base are not.
+#[test]
+fn a_constant_jacobian_is_a_constant_mass_matrix() {
+    let flat = Terrain::flat(0.0);
+    let build = |bodies: Vec<Body>| {
+        let material = ContactMaterial::default();
+        Model::new(
+            bodies,
+            vec![],
+            flat.clone(),
+            vec![],
+            Vec2::new(0.0, -9.81),
+            material,
+        )
+        .unwrap()
+    };
+    let slider = |parent| Body {
+        name: "slider".into(),
+        mass: 0.5,
+        inertia: 0.01,
+        joint: Some(Joint {
+            kind: JointKind::Prismatic {
+                axis: Vec2::new(0.6, 0.8),
+            },
+            ..Joint::revolute(parent, Vec2::new(0.1, 0.2), Vec2::zeros())
+        }),
+    };
+    let pinned = |parent, pivot, com| Body {
+        name: "link".into(),
+        mass: 0.3,
+        inertia: 0.02,
+        joint: Some(Joint::revolute(parent, pivot, com)),
+    };
+    let cases = [
+        (
+            "base with a centred flywheel",
+            vec![
+                Body::base("disc", 2.0, 0.1),
+                Body::flywheel("wheel", 0.5, 0.01, 0),
+            ],
+            true,
+        ),
+        (
+            "slider on the world carrying a centred wheel",
+            vec![slider(None), pinned(Some(0), Vec2::zeros(), Vec2::zeros())],
+            true,
+        ),
+        (
+            "pendulum pinned to the world",
+            vec![pinned(None, Vec2::new(0.0, 1.0), Vec2::new(0.0, -0.5))],
+            false,
+        ),
+        (
+            "flywheel pivoting off the base's centre of mass",
+            vec![
+                Body::base("disc", 2.0, 0.1),
+                pinned(Some(0), Vec2::new(0.1, 0.0), Vec2::zeros()),
+            ],
+            false,
+        ),
+        (
+            "leg sliding along a turning base",
+            vec![Body::base("body", 2.0, 0.1), slider(Some(0))],
+            false,
+        ),
+    ];
+    for (name, bodies, constant) in cases {
+        let model = build(bodies);
+        let kinematics = Kinematics::new(&model);
+        assert_eq!(kinematics.jacobian_is_constant(), constant, "{name}");
+        let n = model.dof();
+        let zero = DVector::zeros(n);
+        let (m0, j0) = (
+            mass_at(&model, &zero),
+            jacobian(&evaluate(&model, &zero, &zero), model.bodies.len(), n),
+        );
+        let (mut mass_change, mut jacobian_change) = (0.0f64, 0.0f64);
+        for i in 0..5 {
+            let q = DVector::from_fn(n, |j, _| 0.7 * (i as f64 + 1.0) + 0.3 * j as f64);
+            let j = jacobian(&evaluate(&model, &q, &zero), model.bodies.len(), n);
+            mass_change = mass_change.max((mass_at(&model, &q) - &m0).amax());
+            jacobian_change = jacobian_change.max((j - &j0).amax());
+        }
+        if constant {
+            assert!(
+                jacobian_change < 1e-15,
+                "{name}: J changes by {jacobian_change:e}"
+            );
+            assert!(mass_change < 1e-15, "{name}: M changes by {mass_change:e}");
+        } else {
+            assert!(
+                jacobian_change > 1e-3,
+                "{name}: J changes by only {jacobian_change:e}"
+            );
+        }
+    }
+}

@@ -121,6 +121,9 @@ pub struct Stepper {
     /// `M(q^M)`, row-major `n × n`, and its `L D Lᵀ` factor.
     mass: Vec<f64>,
     factor: Factor,
+    /// `M` and its factor are those of every `q` (see [`Kinematics::jacobian_is_constant`])
+    /// and already built: stage 2 keeps them.
+    mass_fixed: bool,
     h: Vec<f64>,
     damping: Vec<f64>,
     applied: Vec<f64>,
@@ -187,6 +190,7 @@ impl Stepper {
             n,
             mass: vector(n * n),
             factor: Factor::new(n, diagonal),
+            mass_fixed: false,
             h: vector(n),
             damping: vector(n),
             applied: vector(n),
@@ -381,8 +385,8 @@ impl Stepper {
     }
 
     /// Stage 2, docs/physics.md §4.1 step 2: the kinematics at `(q^M, u^A)`, `M(q^M)` and its
-    /// `L D Lᵀ` factor, `h(q^M, u^A)` split into the damping forces and the rest, with the
-    /// motor torques as the applied forces.
+    /// `L D Lᵀ` factor (built once when `M` does not depend on `q`), `h(q^M, u^A)` split into
+    /// the damping forces and the rest, with the motor torques as the applied forces.
     #[inline]
     fn dynamics(
         &mut self,
@@ -393,7 +397,13 @@ impl Stepper {
     ) -> Result<(), StepError> {
         self.kinematics
             .update_slices(model, &self.q_mid, &self.u_start);
-        model.mass_matrix_to(&self.kinematics, &mut self.mass);
+        if !self.mass_fixed {
+            model.mass_matrix_to(&self.kinematics, &mut self.mass);
+            if !self.factor.factor(&self.mass, self.n) {
+                return Err(StepError::SingularMassMatrix { step, t });
+            }
+            self.mass_fixed = self.kinematics.jacobian_is_constant();
+        }
         self.applied.fill(0.0);
         for torque in &actuation.torques {
             self.kinematics.add_torque_to(
@@ -412,9 +422,6 @@ impl Stepper {
             &mut self.h,
             &mut self.damping,
         );
-        if !self.factor.factor(&self.mass, self.n) {
-            return Err(StepError::SingularMassMatrix { step, t });
-        }
         Ok(())
     }
 
