@@ -469,12 +469,12 @@ impl<const N: usize> Dense<N> {
         let mut y = [0.0; N];
         for (j, term) in self.terms.iter().rev().enumerate() {
             let factor = if j % 2 == 0 { x } else { 1.0 - x };
-            for i in 0..N {
-                y[i] = (y[i] + term[i]) * factor;
+            for (y, term) in y.iter_mut().zip(term) {
+                *y = (*y + term) * factor;
             }
         }
-        for i in 0..N {
-            y[i] += self.y0[i];
+        for (y, y0) in y.iter_mut().zip(&self.y0) {
+            *y += y0;
         }
         y
     }

@@ -146,12 +146,15 @@ pub fn inelastic_impact_fixed<const N: usize, const K: usize>(
     impact_of(*mass, jacobian, velocity_before)
 }
 
+/// `(u⁺, Λ, ΔE)` of an impact with `N` coordinates and `K` rows.
+type ImpactOf<N, K> = (OVector<f64, N>, OVector<f64, K>, f64);
+
 /// The impact of [`inelastic_impact`] for any storage: `u⁺`, `Λ` and `ΔE`.
 fn impact_of<N: Dim, K: Dim>(
     mass: OMatrix<f64, N, N>,
     jacobian: &OMatrix<f64, K, N>,
     velocity_before: &OVector<f64, N>,
-) -> Result<(OVector<f64, N>, OVector<f64, K>, f64)>
+) -> Result<ImpactOf<N, K>>
 where
     DefaultAllocator: Allocator<N, N>
         + Allocator<K, N>
