@@ -203,7 +203,8 @@ pub(crate) const TERRAIN_COLOR: [u8; 3] = [90, 90, 90];
 /// A prismatic joint's rail (the extensions it may take), drawn in its parent's frame.
 pub(crate) const RAIL_COLOR: [u8; 3] = [150, 150, 150];
 
-/// `angle` wrapped to (−π, π], rad.
+/// `angle` wrapped to (−π, π], rad (the Rerun recorder's panels).
+#[cfg_attr(not(feature = "rerun"), allow(dead_code))]
 pub(crate) fn wrap_angle(angle: f64) -> f64 {
     use std::f64::consts::PI;
     let wrapped = angle - TAU * (angle / TAU).round();
