@@ -308,6 +308,15 @@ impl Model {
         (self.bodies[b].coordinate_count() > 0).then(|| self.first_coordinate[b])
     }
 
+    /// The `x` coordinate of every floating base: the directions a gait travels along, in
+    /// which a periodic gait does not repeat (docs/physics.md §7.1).
+    pub fn horizontal_positions(&self) -> Vec<usize> {
+        (0..self.bodies.len())
+            .filter(|&b| self.bodies[b].joint.is_none())
+            .map(|b| self.first_coordinate[b])
+            .collect()
+    }
+
     /// Whether generalised coordinate `i` is a length in metres (a floating base's `x` or
     /// `y`, a prismatic joint's extension); otherwise it is an angle in radians
     /// (docs/physics.md §7.1).

@@ -7,8 +7,9 @@
 //! tolerances below are far above). For a gait that times itself (Robbit's brake) the
 //! section is taken at events instead ([`PoincareSection::at_events`]): the caller adds a
 //! sample at each event with [`PoincareSection::sample`].
-//! The forward position `x` is left out (a gait repeats up to a translation); every other
-//! coordinate and every velocity is kept.
+//! The forward position `x` of a floating base is left out (a gait repeats up to a
+//! translation; [`PoincareSection::leaving_out`] names other coordinates, e.g.
+//! `Model::horizontal_positions`); every other coordinate and every velocity is kept.
 //!
 //! A gait has period `p` when the section states `p` motor periods apart agree within a
 //! tolerance over the last `window` comparisons: with `z_k` the `k`-th section state,
@@ -123,6 +124,8 @@ pub struct PoincareSection {
     samples: Vec<Vec<f64>>,
     /// Times of the samples, s.
     times: Vec<f64>,
+    /// Indices of the coordinates of `q` left out of the section state.
+    left_out: Vec<usize>,
     /// Componentwise minimum and maximum of the states pushed since the last sample.
     low: Vec<f64>,
     high: Vec<f64>,
@@ -155,22 +158,40 @@ impl PoincareSection {
             previous: None,
             samples: Vec::new(),
             times: Vec::new(),
+            left_out: vec![0],
             low: Vec::new(),
             high: Vec::new(),
             spans: Vec::new(),
         }
     }
 
-    /// The section state of `(q, u)`: `q` without `x` (`q[0]`), then `u`.
-    pub fn section_state(q: &[f64], u: &[f64]) -> Vec<f64> {
-        q[1..].iter().chain(u).copied().collect()
+    /// Leaves the coordinates `left_out` of `q` out of the section state instead of `q[0]`
+    /// (the `x` of a floating base first in the tree): e.g. every floating base's `x`
+    /// (`Model::horizontal_positions`), or none for a robot fixed to the world.
+    pub fn leaving_out(mut self, left_out: Vec<usize>) -> Self {
+        self.left_out = left_out;
+        self
+    }
+
+    /// The section state of `(q, u)`: `q` without the coordinates left out, then `u`.
+    pub fn section_state(&self, q: &[f64], u: &[f64]) -> Vec<f64> {
+        let kept = q
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !self.left_out.contains(i));
+        kept.map(|(_, v)| *v).chain(u.iter().copied()).collect()
+    }
+
+    /// The number of coordinates of `q` that the section keeps.
+    fn kept(&self, q: &[f64]) -> usize {
+        (0..q.len()).filter(|i| !self.left_out.contains(i)).count()
     }
 
     /// Feeds the state `(q, u)` at time `t` (call it for the start state and after every
     /// step, in time order); records every section time passed since the last call.
     pub fn push(&mut self, t: f64, q: &[f64], u: &[f64]) {
-        self.coordinates = q.len() - 1;
-        let z = Self::section_state(q, u);
+        self.coordinates = self.kept(q);
+        let z = self.section_state(q, u);
         while let Some((period, t0)) = self.strobe {
             let ts = t0 + self.next as f64 * period;
             if t < ts {
@@ -196,8 +217,8 @@ impl PoincareSection {
     /// Takes the state `(q, u)` at time `t` as the next sample (a section at events; push
     /// the same state too, so that the excursions include it).
     pub fn sample(&mut self, t: f64, q: &[f64], u: &[f64]) {
-        self.coordinates = q.len() - 1;
-        self.add(t, Self::section_state(q, u));
+        self.coordinates = self.kept(q);
+        self.add(t, self.section_state(q, u));
     }
 
     /// Appends a sample; the excursions since the previous sample become its span.
@@ -226,7 +247,7 @@ impl PoincareSection {
         &self.times
     }
 
-    /// Number of coordinates (`q` without `x`) at the front of each section state.
+    /// Number of coordinates (`q` without those left out) at the front of each section state.
     pub fn coordinates(&self) -> usize {
         self.coordinates
     }

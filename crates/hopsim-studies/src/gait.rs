@@ -29,7 +29,7 @@ use crate::{Result, StudyError};
 use hopsim_analysis::numerics::linspace;
 use hopsim_control::ControllerConfig;
 use hopsim_io::CsvTable;
-use hopsim_model::Model;
+use hopsim_model::{JointKind, Model};
 use hopsim_record::{Event, McapRecording, StateSample};
 use hopsim_scene::Scene;
 use hopsim_sim::{Observer, Periodicity, PeriodicityOptions, PoincareSection, RunError, StepView};
@@ -166,6 +166,9 @@ pub struct GaitTrace {
     pub coordinates: Vec<String>,
     /// Indices of the coordinates left out of the section (balanced rotors).
     pub cyclic: Vec<usize>,
+    /// Indices of the coordinates the gait travels along, also left out of the section:
+    /// the `x` of each floating base ([`Model::horizontal_positions`]).
+    pub translations: Vec<usize>,
     /// States in time order, each with the actuator torque of the step that ended there.
     pub states: Vec<StateSample>,
     /// Events in time order.
@@ -176,15 +179,17 @@ pub struct GaitTrace {
 
 /// Coordinates of balanced rotors: bodies whose centre of mass lies on their joint axis
 /// and which carry no shape, no spring and no child body (their angle is cyclic: it
-/// enters neither the mass matrix nor any force). The base's coordinates are `0, 1, 2`;
-/// body `b ≥ 1` has coordinate `b + 2`.
+/// enters neither the mass matrix nor any force): revolute joints without a spring or
+/// stops.
 pub fn balanced_rotors(model: &Model) -> Vec<usize> {
-    (1..model.bodies.len())
+    (0..model.bodies.len())
         .filter(|&b| {
-            let balanced = model.bodies[b]
-                .joint
-                .as_ref()
-                .is_some_and(|j| j.com_in_child.norm() == 0.0);
+            let balanced = model.bodies[b].joint.as_ref().is_some_and(|j| {
+                j.kind == JointKind::Revolute
+                    && j.com_in_child.norm() == 0.0
+                    && j.stiffness == 0.0
+                    && j.limits.is_none()
+            });
             let shaped = model.shapes.iter().any(|s| s.body == b);
             let sprung = model.springs.iter().any(|s| s.body_a == b || s.body_b == b);
             let parent = model
@@ -193,7 +198,7 @@ pub fn balanced_rotors(model: &Model) -> Vec<usize> {
                 .any(|c| c.joint.as_ref().is_some_and(|j| j.parent == Some(b)));
             balanced && !shaped && !sprung && !parent
         })
-        .map(|b| b + 2)
+        .filter_map(|b| model.coordinate(b))
         .collect()
 }
 
@@ -240,6 +245,7 @@ pub fn trace_of_scene(scene: &Scene) -> Result<GaitTrace> {
         source: scene.path.display().to_string(),
         coordinates: scene.coordinates.clone(),
         cyclic: balanced_rotors(&scene.model),
+        translations: scene.model.horizontal_positions(),
         states: collector.states,
         events: collector.events,
         natural_split: CycleSplit::for_controller(&scene.controller, scene.initial.t),
@@ -275,6 +281,7 @@ pub fn trace_of_recording(path: &Path) -> Result<GaitTrace> {
         source: path.display().to_string(),
         coordinates: recording.metadata.coordinates,
         cyclic: balanced_rotors(&scene.model),
+        translations: scene.model.horizontal_positions(),
         states: recording.states,
         events: recording.events,
         natural_split: CycleSplit::for_controller(&scene.controller, scene.initial.t),
@@ -580,10 +587,10 @@ fn cycle(trace: &GaitTrace, flights: &[(f64, f64)], index: usize, a: f64, b: f64
 /// The section at every cycle start, and the names of its components.
 fn section(trace: &GaitTrace, starts: &[f64]) -> (PoincareSection, Vec<String>) {
     let kept: Vec<usize> = (0..trace.coordinates.len())
-        .filter(|i| !trace.cyclic.contains(i))
+        .filter(|i| !trace.cyclic.contains(i) && !trace.translations.contains(i))
         .collect();
     let reduced = |s: &StateSample| -> Vec<f64> { kept.iter().map(|&i| s.q[i]).collect() };
-    let mut section = PoincareSection::at_events();
+    let mut section = PoincareSection::at_events().leaving_out(Vec::new());
     let mut next = starts.iter().peekable();
     for (k, s) in trace.states.iter().enumerate() {
         while let Some(&&t) = next.peek() {
@@ -598,7 +605,7 @@ fn section(trace: &GaitTrace, starts: &[f64]) -> (PoincareSection, Vec<String>) 
         }
         section.push(s.t, &reduced(s), &s.u);
     }
-    let names = kept[1..]
+    let names = kept
         .iter()
         .map(|&i| trace.coordinates[i].clone())
         .chain(trace.coordinates.iter().map(|c| format!("{c}_dot")))

@@ -82,7 +82,9 @@ pub fn run_simulation(
 /// The section at the start of every motor period from `t0`, for pulse-driven scenes.
 fn gait_section(scene: &Scene, t0: f64) -> Option<PoincareSection> {
     match &scene.controller {
-        ControllerConfig::Pulse(c) => Some(PoincareSection::new(c.period, t0)),
+        ControllerConfig::Pulse(c) => {
+            Some(PoincareSection::new(c.period, t0).leaving_out(scene.model.horizontal_positions()))
+        }
         _ => None,
     }
 }

@@ -95,6 +95,7 @@ fn synthetic(shapes: [Shape; 2], cycles: usize) -> GaitTrace {
         source: "test".into(),
         coordinates: ["x", "y", "phi", "psi"].map(String::from).to_vec(),
         cyclic: vec![3],
+        translations: vec![0],
         states,
         events,
         natural_split: CycleSplit::event("brake"),
@@ -204,6 +205,20 @@ fn balanced_rotors_stay_out_of_the_section() {
     assert_eq!(r.periodicity.period, None, "{}", r.periodicity);
     assert_eq!(balanced_rotors(&scene("robbit.toml", &[]).model), [3]);
     assert!(balanced_rotors(&scene("canebot.toml", &[]).model).is_empty());
+}
+
+/// The section leaves out the coordinates a gait travels along, the `x` of each floating
+/// base, and keeps every other: the hopper on a vertical guide (no floating base) keeps
+/// its height, whose first coordinate it is; three free balls leave out their three `x`.
+#[test]
+fn only_floating_bases_travel() {
+    let travels = |name: &str| scene(name, &[]).model.horizontal_positions();
+    assert_eq!(travels("robbit.toml"), [0]);
+    assert_eq!(travels("canebot.toml"), [0]);
+    assert!(travels("classic/hopper-driven.toml").is_empty());
+    assert!(travels("classic/pendulum-stop.toml").is_empty());
+    assert_eq!(travels("classic/cradle-3.toml"), [0, 3, 6]);
+    assert!(balanced_rotors(&scene("classic/hopper-driven.toml", &[]).model).is_empty());
 }
 
 /// Cycles at the motor period: every cycle one period long, from `t0`.
