@@ -7,8 +7,8 @@
 
 mod common;
 
-use common::{scene, starts};
-use hopsim_sim::{Observer, RunError, Simulation, StepView};
+use common::{sampled, scene, starts};
+use hopsim_sim::StepView;
 
 /// What one step left behind.
 struct Sample {
@@ -23,12 +23,9 @@ struct Sample {
     limit_work: f64,
 }
 
-#[derive(Default)]
-struct Samples(Vec<Sample>);
-
-impl Observer for Samples {
-    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
-        self.0.push(Sample {
+impl Sample {
+    fn of(v: &StepView<'_>) -> Self {
+        Sample {
             t: v.state.t,
             q: v.state.q.as_slice().to_vec(),
             u: v.state.u.as_slice().to_vec(),
@@ -36,21 +33,14 @@ impl Observer for Samples {
             limit_impulse: v.record.limits.iter().map(|l| l.impulse).sum(),
             contact_work: v.record.energy.contact_work,
             limit_work: v.record.energy.limit_work,
-        });
-        Ok(())
+        }
     }
 }
 
 /// Runs the gallery scene `name` with overrides and returns every step's sample.
 fn run(name: &str, overrides: &[&str]) -> (Vec<Sample>, f64) {
     let scene = scene(&format!("classic/{name}"), overrides);
-    let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
-    let mut sim = Simulation::new(&scene);
-    let mut samples = Samples::default();
-    for _ in 0..steps {
-        sim.step(&mut samples).expect("step");
-    }
-    (samples.0, scene.settings.dt)
+    (sampled(&scene, Sample::of), scene.settings.dt)
 }
 
 /// `|found − expected| ≤ per_dt Δt`, with a message naming the quantity.

@@ -8,8 +8,8 @@
 
 mod common;
 
-use common::{scene, starts};
-use hopsim_sim::{Observer, RunError, Simulation, StepView};
+use common::{sampled, scene, starts};
+use hopsim_sim::{Simulation, StepView};
 
 /// What one step left behind.
 struct Sample {
@@ -36,12 +36,9 @@ impl Sample {
     }
 }
 
-#[derive(Default)]
-struct Samples(Vec<Sample>);
-
-impl Observer for Samples {
-    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
-        self.0.push(Sample {
+impl Sample {
+    fn of(v: &StepView<'_>) -> Self {
+        Sample {
             t: v.state.t,
             q: v.state.q.as_slice().to_vec(),
             u: v.state.u.as_slice().to_vec(),
@@ -58,8 +55,7 @@ impl Observer for Samples {
                 .map(|c| (c.impulse_normal, c.impulse_tangent))
                 .collect(),
             lcp_failed: v.record.lcp_failed,
-        });
-        Ok(())
+        }
     }
 }
 
@@ -67,13 +63,10 @@ impl Observer for Samples {
 /// initial velocities.
 fn run(name: &str, overrides: &[&str]) -> (Vec<Sample>, Vec<f64>) {
     let scene = scene(&format!("classic/{name}"), overrides);
-    let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
-    let mut sim = Simulation::new(&scene);
-    let mut samples = Samples::default();
-    for _ in 0..steps {
-        sim.step(&mut samples).expect("step");
-    }
-    (samples.0, scene.initial.u.as_slice().to_vec())
+    (
+        sampled(&scene, Sample::of),
+        scene.initial.u.as_slice().to_vec(),
+    )
 }
 
 /// The balls' `x` velocities (every third generalised velocity).
@@ -261,17 +254,12 @@ fn glockers_painleve_rod_slides_as_the_sliding_ode_says() {
             "classic/painleve-glocker.toml",
             &[&format!("simulation.dt={dt}"), "simulation.duration=0.6"],
         );
-        let mut sim = Simulation::new(&scene);
-        let mut samples = Samples::default();
-        let mut positions = Vec::new();
-        for _ in 0..(0.6 / dt).round() as u64 {
-            sim.step(&mut samples).expect("step");
-            positions.push((sim.state().t, sim.state().q[0], sim.state().q[2]));
-        }
+        let samples = sampled(&scene, Sample::of);
         for (t, x, theta_deg) in reference {
-            let &(_, found_x, found_theta) = positions
+            let (found_x, found_theta) = samples
                 .iter()
-                .find(|p| (p.0 - t).abs() < 0.5 * dt)
+                .find(|s| (s.t - t).abs() < 0.5 * dt)
+                .map(|s| (s.q[0], s.q[2]))
                 .unwrap();
             let (ex, et) = (
                 (found_x - x).abs(),
@@ -284,9 +272,9 @@ fn glockers_painleve_rod_slides_as_the_sliding_ode_says() {
             );
         }
         // Sliding all along: no LCP fails, the end stays on the floor.
-        assert!(samples.0.iter().all(|s| !s.lcp_failed));
+        assert!(samples.iter().all(|s| !s.lcp_failed));
         // At most one step whose midpoint gap rounds above zero.
-        let open = samples.0.iter().filter(|s| s.contacts.is_empty()).count();
+        let open = samples.iter().filter(|s| s.contacts.is_empty()).count();
         assert!(open <= 1, "{open} steps without contact");
     }
 }
@@ -302,11 +290,10 @@ fn glockers_painleve_rod_slides_as_the_sliding_ode_says() {
 fn slider_crank_with_clearance_matches_the_reference_step() {
     let scene = scene("classic/slider-crank.toml", &[]);
     let mut sim = Simulation::new(&scene);
-    let mut samples = Samples::default();
     let mut theta3 = 0.0f64;
     let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
     for _ in 0..steps {
-        sim.step(&mut samples).expect("step");
+        sim.step(&mut ()).expect("step");
         theta3 = theta3.max(sim.state().q[2].abs());
     }
     assert_eq!(sim.stepper().lcp_stats().failures, 0);

@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::sampled;
 use hopsim_scene::Scene;
-use hopsim_sim::{Observer, RunError, Simulation, StepView};
+use hopsim_sim::{Observer, RunError, StepView};
 use std::path::Path;
 
 /// A slider of mass `m` on a horizontal prismatic joint, driven by a pulse of `force` N for
@@ -51,32 +52,22 @@ struct Sample {
     commanded: f64,
 }
 
-#[derive(Default)]
-struct Steps(Vec<Sample>);
-
-impl Observer for Steps {
-    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+impl Sample {
+    fn of(v: &StepView<'_>) -> Self {
         let e = &v.record.energy;
-        self.0.push(Sample {
+        Sample {
             t: v.state.t,
             q: v.state.q.as_slice().to_vec(),
             u: v.state.u.as_slice().to_vec(),
             kinetic: e.kinetic,
             work: e.actuator_work,
             commanded: v.torque,
-        });
-        Ok(())
+        }
     }
 }
 
 fn run(scene: &Scene) -> Vec<Sample> {
-    let steps = (scene.settings.duration / scene.settings.dt).round() as usize;
-    let mut sim = Simulation::new(scene);
-    let mut out = Steps::default();
-    for _ in 0..steps {
-        sim.step(&mut out).unwrap();
-    }
-    out.0
+    sampled(scene, Sample::of)
 }
 
 /// Under a constant force `F` on the relative coordinate with reduced mass `μ` the midpoint

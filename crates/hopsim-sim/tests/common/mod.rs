@@ -27,6 +27,25 @@ pub fn starts<T>(samples: &[T], active: impl Fn(&T) -> bool) -> Vec<usize> {
         .collect()
 }
 
+/// Runs `scene` for its duration, step by step, and returns what `sample` takes from each
+/// step.
+pub fn sampled<T>(scene: &Scene, sample: impl FnMut(&StepView<'_>) -> T) -> Vec<T> {
+    struct Collect<T, F>(Vec<T>, F);
+    impl<T, F: FnMut(&StepView<'_>) -> T> Observer for Collect<T, F> {
+        fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+            self.0.push((self.1)(v));
+            Ok(())
+        }
+    }
+    let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
+    let mut sim = Simulation::new(scene);
+    let mut collect = Collect(Vec::new(), sample);
+    for _ in 0..steps {
+        sim.step(&mut collect).expect("step");
+    }
+    collect.0
+}
+
 /// Runs `scene` to its end, showing every step to `observer`.
 pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Summary {
     hopsim_sim::run(scene, observer).expect("run completes")
