@@ -69,6 +69,8 @@ pub struct Kinematics {
     pattern_start: Vec<usize>,
     /// See [`Kinematics::jacobian_is_constant`].
     jacobian_constant: bool,
+    /// The Jacobian rows have been written once (a constant Jacobian is not rewritten).
+    jacobian_written: bool,
     /// `J̇_b u` of each body's centre of mass (centripetal terms), m/s².
     bias: Vec<Vec2>,
     /// Joint position and velocity of each body (see [`Kinematics::joint_position`]).
@@ -117,6 +119,7 @@ impl Kinematics {
             pattern,
             pattern_start,
             jacobian_constant,
+            jacobian_written: false,
             bias: vec![Vec2::zeros(); nb],
             joint_position: vec![0.0; nb],
             joint_rate: vec![0.0; nb],
@@ -137,7 +140,10 @@ impl Kinematics {
     pub fn update_slices(&mut self, model: &Model, q: &[f64], u: &[f64]) {
         let n = self.dof;
         assert!(q.len() == n && u.len() == n, "q and u need {n} entries");
-        // Entries outside the sparsity pattern are never written: they stay zero.
+        // Entries outside the sparsity pattern are never written: they stay zero. A
+        // constant Jacobian is written once.
+        let write_jacobian = !(self.jacobian_constant && self.jacobian_written);
+        self.jacobian_written = true;
         for (b, body) in model.bodies.iter().enumerate() {
             let coord = model.first_coordinate[b];
             let Some(joint) = body.joint.as_ref() else {
@@ -150,8 +156,10 @@ impl Kinematics {
                 self.velocity[b] = Vec2::new(u[coord], u[coord + 1]);
                 self.angular_velocity[b] = u[coord + 2];
                 self.bias[b] = Vec2::zeros();
-                for k in 0..3 {
-                    self.jacobian[(3 * b + k) * n + coord + k] = 1.0;
+                if write_jacobian {
+                    for k in 0..3 {
+                        self.jacobian[(3 * b + k) * n + coord + k] = 1.0;
+                    }
                 }
                 continue;
             };
@@ -196,6 +204,9 @@ impl Kinematics {
                     self.velocity[b] = p_velocity + lp * wp + lc * rate;
                     // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it.
                     self.bias[b] = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
+                    if !write_jacobian {
+                        continue;
+                    }
                     let (parent, bx, by, bt) = self.rows_of(b, joint.parent);
                     let (px, py, pt) = parent;
                     match joint.coordinate {
@@ -233,6 +244,9 @@ impl Kinematics {
                     self.velocity[b] = p_velocity + lever * wp + e * rate_s;
                     // Centripetal and Coriolis accelerations: −ω² r + 2 ω ṡ perp(e).
                     self.bias[b] = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
+                    if !write_jacobian {
+                        continue;
+                    }
                     let (parent, bx, by, bt) = self.rows_of(b, joint.parent);
                     let (px, py, pt) = parent;
                     bt.copy_from_slice(pt);

@@ -551,6 +551,24 @@ fn a_constant_jacobian_is_a_constant_mass_matrix() {
         let kinematics = Kinematics::new(&model);
         assert_eq!(kinematics.jacobian_is_constant(), constant, "{name}");
         let n = model.dof();
+        // One `Kinematics` reused over many `q` (a constant Jacobian is written once) gives
+        // what a fresh one gives at each.
+        let mut reused = Kinematics::new(&model);
+        for i in 0..3 {
+            let q = DVector::from_fn(n, |j, _| 1.1 * i as f64 - 0.4 * j as f64);
+            let u = DVector::from_fn(n, |j, _| 0.3 + 0.2 * (i + j) as f64);
+            reused.update(&model, &q, &u);
+            let fresh = evaluate(&model, &q, &u);
+            let bodies = model.bodies.len();
+            assert_eq!(
+                jacobian(&reused, bodies, n),
+                jacobian(&fresh, bodies, n),
+                "{name}"
+            );
+            assert_eq!(reused.velocity, fresh.velocity, "{name}");
+            let biases = |k: &Kinematics| (0..bodies).map(|b| k.bias(b)).collect::<Vec<_>>();
+            assert_eq!(biases(&reused), biases(&fresh), "{name}");
+        }
         let zero = DVector::zeros(n);
         let (m0, j0) = (
             mass_at(&model, &zero),
