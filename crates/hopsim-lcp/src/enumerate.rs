@@ -95,7 +95,13 @@ pub(crate) fn enumerate(
 /// Gaussian elimination with partial pivoting on the leading `k×k` block of the row-major
 /// `a` (row stride `stride`); `b` is overwritten with the solution. False when a pivot's
 /// magnitude is `≤ tiny` (numerically singular).
-fn gauss_solve(a: &mut [f64], stride: usize, b: &mut [f64], k: usize, tiny: f64) -> bool {
+pub(crate) fn gauss_solve(
+    a: &mut [f64],
+    stride: usize,
+    b: &mut [f64],
+    k: usize,
+    tiny: f64,
+) -> bool {
     for col in 0..k {
         let mut piv = col;
         let mut best = a[col * stride + col].abs();

@@ -13,6 +13,9 @@ use crate::tableau::{self, Aligned, Ending, Scales, Work};
 use crate::{Certificate, LcpInputError, LcpProblem, LcpSolution, LcpStatus, SolveMethod};
 use nalgebra::{DMatrix, DMatrixView, DVector, DVectorView};
 
+mod warm;
+pub use warm::WarmStart;
+
 /// Hard cap on the enumeration fallback: `2ⁿ` bases.
 const ENUMERATION_CAP: usize = 20;
 /// Number of alternate covering vectors the fallback tries (see `alternate_covering`).

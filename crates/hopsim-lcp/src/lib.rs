@@ -29,6 +29,6 @@ mod tableau;
 pub use certificate::Certificate;
 pub use dat::DatError;
 pub use error::LcpInputError;
-pub use lemke::{solve_lcp, LemkeOptions, LemkeSolver};
+pub use lemke::{solve_lcp, LemkeOptions, LemkeSolver, WarmStart};
 pub use problem::LcpProblem;
 pub use solution::{LcpSolution, LcpStatus, SolveMethod};

@@ -48,16 +48,21 @@ pub enum SolveMethod {
     LemkeAlternateCovering,
     /// Exhaustive enumeration of complementary bases (fallback, small `n` only).
     Enumeration,
+    /// The complementary basis of an earlier answer, solved directly and certified
+    /// ([`crate::LemkeSolver::solve_warm`]); no pivots.
+    WarmStart,
 }
 
 impl SolveMethod {
-    /// `"trivial"`, `"lemke"`, `"lemke_alternate_covering"` or `"enumeration"`.
+    /// `"trivial"`, `"lemke"`, `"lemke_alternate_covering"`, `"enumeration"` or
+    /// `"warm_start"`.
     pub fn as_str(self) -> &'static str {
         match self {
             SolveMethod::Trivial => "trivial",
             SolveMethod::Lemke => "lemke",
             SolveMethod::LemkeAlternateCovering => "lemke_alternate_covering",
             SolveMethod::Enumeration => "enumeration",
+            SolveMethod::WarmStart => "warm_start",
         }
     }
 }

@@ -129,6 +129,9 @@ pub struct LcpStats {
     pub max_pivots: usize,
     /// Sum of pivots.
     pub total_pivots: u64,
+    /// Solves answered by the previous step's basis, without pivots
+    /// ([`crate::StepSettings::warm_start`]).
+    pub warm_starts: u64,
 }
 
 /// Everything one step produced. Its buffers are reused from step to step.

@@ -6,7 +6,7 @@ use crate::{
     Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LimitRecord,
     LockRecord, State, StepRecord,
 };
-use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver};
+use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver, SolveMethod, WarmStart};
 use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
@@ -23,6 +23,9 @@ pub struct StepSettings {
     pub max_speed: f64,
     /// Options of the Lemke solver.
     pub lcp: LemkeOptions,
+    /// Try the previous step's complementary basis before Lemke's method
+    /// ([`LemkeSolver::solve_warm`]; the answer is certified either way). On by default.
+    pub warm_start: bool,
 }
 
 impl StepSettings {
@@ -43,6 +46,7 @@ impl Default for StepSettings {
             strict: false,
             max_speed: 1e4,
             lcp: LemkeOptions::default(),
+            warm_start: true,
         }
     }
 }
@@ -162,6 +166,8 @@ pub struct Stepper {
     lcp_a: DMatrix<f64>,
     lcp_b: DVector<f64>,
     lcp: LemkeSolver,
+    /// The basis of the last frictional LCP's answer (see [`StepSettings::warm_start`]).
+    warm: WarmStart,
     record: StepRecord,
     stats: LcpStats,
     /// Whether stage 9 keeps the energy account (see [`Stepper::set_ledger`]).
@@ -183,6 +189,7 @@ impl Stepper {
         lcp.reserve(3 * k + limits);
         Self {
             lcp,
+            warm: WarmStart::with_capacity(3 * k + limits),
             settings,
             t_start: 0.0,
             enabled: vec![true; k],
@@ -297,6 +304,7 @@ impl Stepper {
         self.record.lcp_failed = false;
         self.fill_gaps(model);
         self.stats = LcpStats::default();
+        self.warm.forget();
         &self.record
     }
 
@@ -607,18 +615,22 @@ impl Stepper {
         if l > 0 {
             self.limit_rows(model, k, l);
         }
-        let solution = self
-            .lcp
-            .solve(
-                self.lcp_a.view((0, 0), (size, size)),
-                self.lcp_b.rows(0, size),
-            )
-            .map_err(|_| StepError::NonFinite {
-                step,
-                t,
-                what: "the contact LCP",
-            })?;
+        let (a, b) = (
+            self.lcp_a.view((0, 0), (size, size)),
+            self.lcp_b.rows(0, size),
+        );
+        let solution = if self.settings.warm_start {
+            self.lcp.solve_warm(a, b, &mut self.warm)
+        } else {
+            self.lcp.solve(a, b)
+        }
+        .map_err(|_| StepError::NonFinite {
+            step,
+            t,
+            what: "the contact LCP",
+        })?;
         self.stats.solves += 1;
+        self.stats.warm_starts += u64::from(solution.method == SolveMethod::WarmStart);
         self.stats.max_pivots = self.stats.max_pivots.max(solution.pivots);
         self.stats.total_pivots += solution.pivots as u64;
         self.record.lcp_pivots = solution.pivots;

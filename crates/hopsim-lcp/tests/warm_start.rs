@@ -1,0 +1,125 @@
+//! Warm starts ([`LemkeSolver::solve_warm`]): on LCPs with a unique solution they give the
+//! cold solve's answer; a remembered basis that no longer fits falls back to Lemke's
+//! method; bad data is still an error.
+
+use hopsim_lcp::{LcpInputError, LcpStatus, LemkeSolver, SolveMethod, WarmStart};
+use nalgebra::{dmatrix, dvector, DMatrix, DVector};
+
+/// Uniform numbers in [−1, 1) (xorshift, fixed seed).
+fn uniform(seed: &mut u64) -> f64 {
+    *seed ^= *seed << 13;
+    *seed ^= *seed >> 7;
+    *seed ^= *seed << 17;
+    (*seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+/// A positive definite `M = A Aᵀ + I/2` has the P-property: every `q` gives exactly one
+/// solution, so a warm answer must equal the cold one. `q` drifts slowly along a
+/// sequence, as a time-stepper's does, so most solves keep their basis and some cross a
+/// change of basis. Sizes 1–9 cover the copies compiled per size (≤ 6) and the general
+/// one.
+#[test]
+fn a_warm_start_finds_the_unique_solution_of_a_p_matrix_lcp() {
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    for n in 1..=9 {
+        let a = DMatrix::from_fn(n, n, |_, _| uniform(&mut seed));
+        let m = &a * a.transpose() + DMatrix::identity(n, n) * 0.5;
+        let q0 = DVector::from_fn(n, |_, _| uniform(&mut seed));
+        let drift = DVector::from_fn(n, |_, _| uniform(&mut seed));
+        let (mut warm_solver, mut cold_solver) = (LemkeSolver::default(), LemkeSolver::default());
+        let mut warm = WarmStart::with_capacity(n);
+        let (mut hits, mut lemke) = (0, 0);
+        for step in 0..400 {
+            let q = &q0 + &drift * (0.01 * step as f64);
+            let cold = cold_solver.solve(m.as_view(), q.as_view()).unwrap().clone();
+            let sol = warm_solver
+                .solve_warm(m.as_view(), q.as_view(), &mut warm)
+                .unwrap();
+            assert_eq!(sol.status, LcpStatus::Solved, "n = {n}, step {step}");
+            assert!(sol.certificate.holds());
+            let scale = 1.0 + cold.z.amax();
+            let dz = (&sol.z - &cold.z).amax();
+            assert!(dz <= 1e-12 * scale, "n = {n}, step {step}: |Δz| = {dz:e}");
+            match sol.method {
+                SolveMethod::WarmStart => {
+                    assert_eq!(sol.pivots, 0);
+                    hits += 1;
+                }
+                SolveMethod::Lemke => lemke += 1,
+                _ => {}
+            }
+        }
+        // The drift moves q by 4 |drift| over the run: the basis changes a few times (the
+        // first solve is always cold) and holds in between.
+        assert!(
+            hits > 10 * lemke,
+            "n = {n}: {hits} warm answers, {lemke} by Lemke"
+        );
+        assert!(lemke >= 1, "n = {n}: no cold solve");
+    }
+}
+
+/// `M = [[2, 1], [1, 2]]`: `q = (−1, 1)` has `z = (1/2, 0)`; `q = (1, −1)` needs the other
+/// basis, `z = (0, 1/2)`, found by Lemke's method; `q = (2, −2)` then keeps that basis,
+/// `z = (0, 1)`, without pivots.
+#[test]
+fn a_basis_that_no_longer_fits_falls_back_to_lemke() {
+    let m = dmatrix![2.0, 1.0; 1.0, 2.0];
+    let mut solver = LemkeSolver::default();
+    let mut warm = WarmStart::default();
+    let cases = [
+        (dvector![-1.0, 1.0], [0.5, 0.0], SolveMethod::Lemke),
+        (dvector![1.0, -1.0], [0.0, 0.5], SolveMethod::Lemke),
+        (dvector![2.0, -2.0], [0.0, 1.0], SolveMethod::WarmStart),
+    ];
+    for (q, z, method) in cases {
+        let sol = solver
+            .solve_warm(m.as_view(), q.as_view(), &mut warm)
+            .unwrap();
+        assert_eq!((sol.status, sol.method), (LcpStatus::Solved, method), "{q}");
+        assert!((sol.z[0] - z[0]).abs() < 1e-15 && (sol.z[1] - z[1]).abs() < 1e-15);
+        assert_eq!(warm.basis(), Some(&[z[0] > 0.0, z[1] > 0.0][..]));
+    }
+    // `q ≥ 0` is the trivial answer, not the remembered basis.
+    let q = dvector![1.0, 1.0];
+    let sol = solver
+        .solve_warm(m.as_view(), q.as_view(), &mut warm)
+        .unwrap();
+    assert_eq!(sol.method, SolveMethod::Trivial);
+    assert_eq!(sol.z.as_slice(), &[0.0, 0.0]);
+    // A problem of another size ignores the basis.
+    let (m3, q3) = (DMatrix::identity(3, 3), dvector![-1.0, -2.0, 0.5]);
+    let sol = solver
+        .solve_warm(m3.as_view(), q3.as_view(), &mut warm)
+        .unwrap();
+    assert_eq!(
+        (sol.method, sol.z.as_slice()),
+        (SolveMethod::Lemke, &[1.0, 2.0, 0.0][..])
+    );
+}
+
+/// Non-finite data is the same error warm as cold, and an unsolvable problem is reported
+/// as such (and forgets the basis).
+#[test]
+fn bad_data_is_an_error_and_failures_are_not_remembered() {
+    let m = dmatrix![2.0, 1.0; 1.0, 2.0];
+    let mut solver = LemkeSolver::default();
+    let mut warm = WarmStart::default();
+    let q = dvector![-1.0, -1.0];
+    solver
+        .solve_warm(m.as_view(), q.as_view(), &mut warm)
+        .unwrap();
+    assert!(warm.basis().is_some());
+    let bad = dvector![-1.0, f64::NAN];
+    assert!(matches!(
+        solver.solve_warm(m.as_view(), bad.as_view(), &mut warm),
+        Err(LcpInputError::NonFinite { what: "q", .. })
+    ));
+    // `w = −z − 1` can never be non-negative: no solution.
+    let (m1, q1) = (dmatrix![-1.0], dvector![-1.0]);
+    let sol = solver
+        .solve_warm(m1.as_view(), q1.as_view(), &mut warm)
+        .unwrap();
+    assert_ne!(sol.status, LcpStatus::Solved);
+    assert!(warm.basis().is_none());
+}
