@@ -89,7 +89,7 @@ fn solve_small(a: &mut [[f64; SMALL]; SMALL], b: &mut [f64]) -> bool {
             }
         }
         let d = a[piv][col];
-        if !(d.abs() > tiny) || !d.is_finite() {
+        if d.abs() <= tiny || !d.is_finite() {
             return false;
         }
         a.swap(piv, col);
