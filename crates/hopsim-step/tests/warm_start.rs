@@ -23,7 +23,7 @@ fn run_robbit(warm_start: bool) -> (Vec<Vec<f64>>, u64, u64) {
     let mut states = Vec::new();
     for k in 0..(1.5 / dt).round() as usize {
         act.clear();
-        let sign = if (k as f64 * dt / 0.25) as usize % 2 == 0 {
+        let sign = if ((k as f64 * dt / 0.25) as usize).is_multiple_of(2) {
             1.0
         } else {
             -1.0
