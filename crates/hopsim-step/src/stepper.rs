@@ -355,41 +355,60 @@ impl Stepper {
         state: &mut State,
         actuation: &Actuation,
     ) -> Result<&StepRecord, StepError> {
+        // One copy of the stages per small number of coordinates, so that their loops
+        // over `n` have fixed trip counts; `0`: any `n`.
+        match self.n {
+            3 => self.step_sized::<3>(model, state, actuation)?,
+            4 => self.step_sized::<4>(model, state, actuation)?,
+            5 => self.step_sized::<5>(model, state, actuation)?,
+            6 => self.step_sized::<6>(model, state, actuation)?,
+            _ => self.step_sized::<0>(model, state, actuation)?,
+        }
+        Ok(&self.record)
+    }
+
+    /// [`Stepper::step`] for `n = N` coordinates (`N = 0`: any `n`).
+    fn step_sized<const N: usize>(
+        &mut self,
+        model: &Model,
+        state: &mut State,
+        actuation: &Actuation,
+    ) -> Result<(), StepError> {
         let step = self.record.step + 1;
         // Errors name the step and the time at its start.
         let t = state.t;
-        check_state(state, self.n, step, t, f64::INFINITY, true)?;
+        check_state(state, dof::<N>(self.n), step, t, f64::INFINITY, true)?;
         // Stage 1: midpoint.
-        self.midpoint(state);
+        self.midpoint::<N>(state);
         // Stage 2: kinematics, mass matrix and its factor, forces.
         self.dynamics(model, actuation, step, t)?;
         // Stage 3: applied impulses and velocity locks.
         self.impulses_and_locks(actuation, step, t)?;
         // Stage 4: index set.
-        let k = self.index_set(model);
+        let k = self.index_set::<N>(model);
         // Stage 5: free velocity ũ and G W.
-        self.free_velocity(k);
+        self.free_velocity::<N>(k);
         // Stage 6: contact LCP.
-        self.solve_contact_lcp(model, step, t)?;
+        self.solve_contact_lcp::<N>(model, step, t)?;
         // Stage 7: end velocity u^E and contact records.
-        self.end_velocity(model, k);
+        self.end_velocity::<N>(model, k);
         // Stage 8: end position q^E and time.
-        self.integrate(model, state, step, t)?;
+        self.integrate::<N>(model, state, step, t)?;
         // Stage 9: energy ledger and gaps (observers only).
-        self.ledger(model, actuation);
-        Ok(&self.record)
+        self.ledger::<N>(model, actuation);
+        Ok(())
     }
 
     /// Stage 1, docs/physics.md §4.1 step 1: the midpoint `q^M = q^A + Δt/2 u^A`; keeps `u^A`
     /// for the later stages (the state is overwritten in stage 8).
     #[inline]
-    fn midpoint(&mut self, state: &State) {
-        let dt = self.settings.dt;
-        let (q, u) = (state.q.as_slice(), state.u.as_slice());
-        for ((m, q), u) in self.q_mid.iter_mut().zip(q).zip(u) {
+    fn midpoint<const N: usize>(&mut self, state: &State) {
+        let (n, dt) = (dof::<N>(self.n), self.settings.dt);
+        let (q, u) = (&state.q.as_slice()[..n], &state.u.as_slice()[..n]);
+        for ((m, q), u) in self.q_mid[..n].iter_mut().zip(q).zip(u) {
             *m = q + 0.5 * dt * u;
         }
-        self.u_start.copy_from_slice(u);
+        self.u_start[..n].copy_from_slice(u);
     }
 
     /// Stage 2, docs/physics.md §4.1 step 2: the kinematics at `(q^M, u^A)`, `M(q^M)` and its
@@ -476,8 +495,8 @@ impl Stepper {
     /// `g_N(q^M) ≤ 0`) with each contact's `w_N`, `w_T` and `γ_N^A`, `γ_T^A`, and the closed
     /// joint stops (`g(q^M) ≤ 0`, §7) with their rows `w = ±∂s/∂q` and `γ^A`; returns the
     /// number `k` of closed contacts.
-    fn index_set(&mut self, model: &Model) -> usize {
-        let n = self.n;
+    fn index_set<const N: usize>(&mut self, model: &Model) -> usize {
+        let n = dof::<N>(self.n);
         self.active.clear();
         self.geometry.clear();
         for i in 0..model.contacts.len() {
@@ -499,7 +518,7 @@ impl Stepper {
                 &mut self.w_n[rows.clone()],
                 &mut self.w_t[rows],
             );
-            self.close_contact(i, geom);
+            self.close_contact::<N>(i, geom);
         }
         if !model.pairs.is_empty() {
             self.pair_index_set(model);
@@ -524,12 +543,12 @@ impl Stepper {
     /// Adds contact `i`, whose `w_N`, `w_T` are written in the next rows, to the index set
     /// with its `γ_N^A`, `γ_T^A` and `geometry`.
     #[inline]
-    fn close_contact(&mut self, i: usize, geometry: ContactGeometry) {
-        let n = self.n;
+    fn close_contact<const N: usize>(&mut self, i: usize, geometry: ContactGeometry) {
+        let n = dof::<N>(self.n);
         let c = self.active.len();
         let rows = c * n..(c + 1) * n;
-        self.gamma_n[c] = dot(&self.w_n[rows.clone()], &self.u_start);
-        self.gamma_t[c] = dot(&self.w_t[rows], &self.u_start);
+        self.gamma_n[c] = dot(&self.w_n[rows.clone()], &self.u_start[..n]);
+        self.gamma_t[c] = dot(&self.w_t[rows], &self.u_start[..n]);
         self.active.push(i);
         self.geometry.push(geometry);
     }
@@ -538,15 +557,16 @@ impl Stepper {
     /// `G W_T` of the `k` closed contacts (and `G w` of the closed joint stops) in one solve with `M`'s factor, then projected
     /// onto the locks (`G ← G − G B (Bᵀ G B)⁻¹ Bᵀ G`, `ũ` likewise).
     #[inline]
-    fn free_velocity(&mut self, k: usize) {
-        let (n, dt) = (self.n, self.settings.dt);
-        for ((f, h), p) in self.force.iter_mut().zip(&self.h).zip(&self.impulse) {
+    fn free_velocity<const N: usize>(&mut self, k: usize) {
+        let (n, dt) = (dof::<N>(self.n), self.settings.dt);
+        let (force, h, impulse) = (&mut self.force[..n], &self.h[..n], &self.impulse[..n]);
+        for ((f, h), p) in force.iter_mut().zip(h).zip(impulse) {
             *f = h * dt + p;
         }
         let l = self.active_limits.len();
         let solved = &mut self.solved[..(2 * k + l + 1) * n];
         let (first, rest) = solved.split_at_mut(n);
-        first.copy_from_slice(&self.force);
+        first.copy_from_slice(&self.force[..n]);
         let (normals, rest) = rest.split_at_mut(k * n);
         let (tangents, limits) = rest.split_at_mut(k * n);
         normals.copy_from_slice(&self.w_n[..k * n]);
@@ -558,10 +578,9 @@ impl Stepper {
                 self.locks.project(row);
             }
         }
-        for ((ut, a), g) in self
-            .u_tilde
+        for ((ut, a), g) in self.u_tilde[..n]
             .iter_mut()
-            .zip(&self.u_start)
+            .zip(&self.u_start[..n])
             .zip(&self.solved[..n])
         {
             *ut = a + g;
@@ -573,10 +592,15 @@ impl Stepper {
     /// §4.3 for the index set (nothing to solve when it is empty); an uncertified solve
     /// falls back to [`Stepper::solve_frictionless_lcp`] or, in strict mode, is an error
     /// (§4.5).
-    fn solve_contact_lcp(&mut self, model: &Model, step: u64, t: f64) -> Result<(), StepError> {
+    fn solve_contact_lcp<const N: usize>(
+        &mut self,
+        model: &Model,
+        step: u64,
+        t: f64,
+    ) -> Result<(), StepError> {
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
-        let n = self.n;
+        let n = dof::<N>(self.n);
         let k = self.active.len();
         let l = self.active_limits.len();
         if k + l == 0 {
@@ -608,12 +632,12 @@ impl Stepper {
             a[(2 * k + r) * ld + k + r] = 1.0;
             a[r * ld + 2 * k + r] = 2.0 * mat_r.friction;
             a[(k + r) * ld + 2 * k + r] = -1.0;
-            b[r] = dot(w_n, &self.u_tilde) + mat_r.restitution_normal * self.gamma_n[r];
-            b[k + r] = dot(w_t, &self.u_tilde) + mat_r.restitution_tangent * self.gamma_t[r];
+            b[r] = dot(w_n, &self.u_tilde[..n]) + mat_r.restitution_normal * self.gamma_n[r];
+            b[k + r] = dot(w_t, &self.u_tilde[..n]) + mat_r.restitution_tangent * self.gamma_t[r];
             b[2 * k + r] = 0.0;
         }
         if l > 0 {
-            self.limit_rows(model, k, l);
+            self.limit_rows::<N>(model, k, l);
         }
         let (a, b) = (
             self.lcp_a.view((0, 0), (size, size)),
@@ -669,8 +693,8 @@ impl Stepper {
     /// The rows and columns of the `l` closed joint stops in the LCP of §4.3 (docs/physics.md
     /// §7): unknowns `Λ_J` after `(Λ_N, Λ_R, ξ_L)`, frictionless normal rows
     /// `ξ_J = w_Jᵀ u^E + ε γ_J^A ⟂ Λ_J`, with `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)`.
-    fn limit_rows(&mut self, model: &Model, k: usize, l: usize) {
-        let n = self.n;
+    fn limit_rows<const N: usize>(&mut self, model: &Model, k: usize, l: usize) {
+        let n = dof::<N>(self.n);
         let ld = self.lcp_a.nrows();
         let a = self.lcp_a.as_mut_slice();
         let b = self.lcp_b.as_mut_slice();
@@ -756,9 +780,9 @@ impl Stepper {
     /// Stage 7, docs/physics.md §4.1 step 4: `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)` and the
     /// records of the `k` closed contacts and the closed joint stops.
     #[inline]
-    fn end_velocity(&mut self, model: &Model, k: usize) {
-        let n = self.n;
-        self.u_end.copy_from_slice(&self.u_tilde);
+    fn end_velocity<const N: usize>(&mut self, model: &Model, k: usize) {
+        let n = dof::<N>(self.n);
+        self.u_end[..n].copy_from_slice(&self.u_tilde[..n]);
         for c in 0..k {
             axpy(
                 self.lambda_n[c],
@@ -782,7 +806,7 @@ impl Stepper {
         self.record.contacts.clear();
         self.record.pair_contacts.clear();
         if k > 0 {
-            self.fill_contact_records(model, k);
+            self.fill_contact_records::<N>(model, k);
         }
         self.record.limits.clear();
         for r in 0..l {
@@ -799,8 +823,8 @@ impl Stepper {
     }
 
     /// The contact records of the step (after `u^E` is known).
-    fn fill_contact_records(&mut self, model: &Model, k: usize) {
-        let n = self.n;
+    fn fill_contact_records<const N: usize>(&mut self, model: &Model, k: usize) {
+        let n = dof::<N>(self.n);
         let scale = 1e-9;
         for c in 0..k {
             let (ln, lt) = (self.lambda_n[c], self.lambda_t[c]);
@@ -843,29 +867,34 @@ impl Stepper {
     /// (`t_start`, the start time `t` of the first step, plus `step Δt`), checked, and the
     /// kinematics at `(q^E, u^E)` (for the controller and the ledger).
     #[inline]
-    fn integrate(
+    fn integrate<const N: usize>(
         &mut self,
         model: &Model,
         state: &mut State,
         step: u64,
         t: f64,
     ) -> Result<(), StepError> {
-        let dt = self.settings.dt;
-        for ((q, m), v) in state
-            .q
-            .as_mut_slice()
-            .iter_mut()
-            .zip(&self.q_mid)
-            .zip(&self.u_end)
-        {
+        let (n, dt) = (dof::<N>(self.n), self.settings.dt);
+        let (q, u) = (
+            &mut state.q.as_mut_slice()[..n],
+            &mut state.u.as_mut_slice()[..n],
+        );
+        for ((q, m), v) in q.iter_mut().zip(&self.q_mid[..n]).zip(&self.u_end[..n]) {
             *q = m + 0.5 * dt * v;
         }
-        state.u.as_mut_slice().copy_from_slice(&self.u_end);
+        u.copy_from_slice(&self.u_end[..n]);
         if step == 1 {
             self.t_start = t;
         }
         state.t = self.t_start + step as f64 * dt;
-        check_state(state, self.n, step, t, self.settings.max_speed, false)?;
+        check_state(
+            state,
+            dof::<N>(self.n),
+            step,
+            t,
+            self.settings.max_speed,
+            false,
+        )?;
         self.kinematics
             .update_slices(model, state.q.as_slice(), state.u.as_slice());
         self.record.step = step;
@@ -878,16 +907,16 @@ impl Stepper {
     /// without the energy account ([`Stepper::set_ledger`]) only the lock impulses and the
     /// gaps.
     #[inline]
-    fn ledger(&mut self, model: &Model, actuation: &Actuation) {
+    fn ledger<const N: usize>(&mut self, model: &Model, actuation: &Actuation) {
         if self.ledger {
-            self.add_works(actuation);
+            self.add_works::<N>(actuation);
             let mut energy = self.record.energy;
             self.fill_energies(model, &mut energy);
             self.record.energy = energy;
         } else {
             self.record.locks.clear();
             if !actuation.locks.is_empty() {
-                self.lock_force();
+                self.lock_force::<N>();
                 self.push_lock_records(actuation);
             }
         }
@@ -897,20 +926,20 @@ impl Stepper {
     /// Adds the step's works to the ledger (docs/physics.md §6.1): each percussion times
     /// `(u^A + u^E)/2`; and the velocity-lock impulses `P` (from
     /// `M (u^E − u^A) = h Δt + impulses + W Λ + B P`, §4.4) to the record.
-    fn add_works(&mut self, actuation: &Actuation) {
-        let n = self.n;
+    fn add_works<const N: usize>(&mut self, actuation: &Actuation) {
+        let n = dof::<N>(self.n);
         let dt = self.settings.dt;
         let k = self.active.len();
-        let u = &self.u_start;
+        let u = &self.u_start[..n];
         // The mean velocity (u^A + u^E)/2.
         let mean = &mut self.scratch[..n];
-        for ((m, a), e) in mean.iter_mut().zip(u).zip(&self.u_end) {
+        for ((m, a), e) in mean.iter_mut().zip(u).zip(&self.u_end[..n]) {
             *m = 0.5 * (a + e);
         }
         let mean = &self.scratch[..n];
         let mut energy = self.record.energy;
-        energy.actuator_work += dt * dot(&self.applied, mean) + dot(&self.impulse, mean);
-        energy.damping_work += dt * dot(&self.damping, mean);
+        energy.actuator_work += dt * dot(&self.applied[..n], mean) + dot(&self.impulse[..n], mean);
+        energy.damping_work += dt * dot(&self.damping[..n], mean);
         for c in 0..k {
             let rows = c * n..(c + 1) * n;
             energy.contact_work += self.lambda_n[c] * dot(&self.w_n[rows.clone()], mean)
@@ -922,7 +951,7 @@ impl Stepper {
         }
         self.record.locks.clear();
         if !actuation.locks.is_empty() {
-            self.lock_force();
+            self.lock_force::<N>();
             energy.lock_work += dot(&self.force, &self.scratch[..n]);
             self.push_lock_records(actuation);
         }
@@ -931,8 +960,8 @@ impl Stepper {
 
     /// The generalised lock force `B P = M (u^E − u^A) − h Δt − impulses − W Λ` of the
     /// step (docs/physics.md §4.4), into `force` (which held `h Δt + impulses`).
-    fn lock_force(&mut self) {
-        let n = self.n;
+    fn lock_force<const N: usize>(&mut self) {
+        let n = dof::<N>(self.n);
         let k = self.active.len();
         let l = self.active_limits.len();
         for i in 0..n {
@@ -962,6 +991,16 @@ impl Stepper {
                 impulse,
             });
         }
+    }
+}
+
+/// The number of coordinates `n` of a stage compiled for `N` of them (`N = 0`: any).
+#[inline(always)]
+fn dof<const N: usize>(n: usize) -> usize {
+    if N == 0 {
+        n
+    } else {
+        N
     }
 }
 

@@ -62,17 +62,15 @@ impl WarmStart {
     }
 }
 
-/// Largest basis solved on the stack by [`solve_small`].
-const SMALL: usize = 6;
 /// A pivot at most `SINGULAR` times the largest entry of `M_BB` makes it singular (as in
 /// the enumeration fallback).
 const SINGULAR: f64 = 1e-13;
 
 /// Gaussian elimination with partial pivoting of the leading `k × k` block of `a`
-/// (`k = b.len() ≤ SMALL`); `b` becomes the solution. False when a pivot is at most
+/// (`k = b.len() ≤ W`); `b` becomes the solution. False when a pivot is at most
 /// [`SINGULAR`] times the block's largest entry, or not finite.
 #[inline(always)]
-fn solve_small(a: &mut [[f64; SMALL]; SMALL], b: &mut [f64]) -> bool {
+fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
     let k = b.len();
     let mut a_max: f64 = 0.0;
     for row in a.iter().take(k) {
@@ -92,13 +90,18 @@ fn solve_small(a: &mut [[f64; SMALL]; SMALL], b: &mut [f64]) -> bool {
         if d.abs() <= tiny || !d.is_finite() {
             return false;
         }
-        a.swap(piv, col);
-        b.swap(piv, col);
-        let pivot_row = a[col];
+        if piv != col {
+            for c in col..k {
+                let v = a[piv][c];
+                a[piv][c] = a[col][c];
+                a[col][c] = v;
+            }
+            b.swap(piv, col);
+        }
         for r in col + 1..k {
             let f = a[r][col] / d;
             for c in col..k {
-                a[r][c] -= f * pivot_row[c];
+                a[r][c] -= f * a[col][c];
             }
             b[r] -= f * b[col];
         }
@@ -145,8 +148,8 @@ impl LemkeSolver {
             4 => self.basis_fixed::<4>(m, q, basic),
             5 => self.basis_fixed::<5>(m, q, basic),
             6 => self.basis_fixed::<6>(m, q, basic),
-            // `SMALL` is the largest size with its own copy.
-            n => self.basis_core(n, m, q, basic),
+            // Larger sizes share one copy, with the basis solved in the heap scratch.
+            n => self.basis_core::<0>(n, m, q, basic),
         }
     }
 
@@ -158,11 +161,13 @@ impl LemkeSolver {
         q: &[f64],
         basic: &[bool],
     ) -> bool {
-        self.basis_core(N, m, q, basic)
+        self.basis_core::<N>(N, m, q, basic)
     }
 
     #[inline(always)]
-    fn basis_core(
+    /// The warm path for size `n`; with `W = n` the basis is solved on the stack, with
+    /// `W = 0` in the heap scratch.
+    fn basis_core<const W: usize>(
         &mut self,
         n: usize,
         m: &DMatrixView<'_, f64>,
@@ -205,8 +210,8 @@ impl LemkeSolver {
         }
         let idx = &idx[..k];
         let b = &mut self.lu_rhs[..k];
-        let solved = if n <= SMALL {
-            let mut a = [[0.0; SMALL]; SMALL];
+        let solved = if W > 0 {
+            let mut a = [[0.0; W]; W];
             for ((&i, a_row), b_i) in idx.iter().zip(a.iter_mut()).zip(b.iter_mut()) {
                 for (&j, a_ij) in idx.iter().zip(a_row.iter_mut()) {
                     *a_ij = p.m(i, j);

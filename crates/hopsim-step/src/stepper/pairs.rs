@@ -30,7 +30,7 @@ impl Stepper {
                 &mut self.w_n[rows.clone()],
                 &mut self.w_t[rows],
             );
-            self.close_contact(first + p, geometry.as_contact());
+            self.close_contact::<0>(first + p, geometry.as_contact());
         }
     }
 }
