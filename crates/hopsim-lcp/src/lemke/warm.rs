@@ -90,20 +90,16 @@ fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
         if d.abs() <= tiny || !d.is_finite() {
             return false;
         }
-        if piv != col {
-            for c in col..k {
-                let v = a[piv][c];
-                a[piv][c] = a[col][c];
-                a[col][c] = v;
+        a.swap(piv, col);
+        b.swap(piv, col);
+        let (upper, lower) = a.split_at_mut(col + 1);
+        let pivot_row = &upper[col][col..k];
+        for (r, row) in lower[..k - col - 1].iter_mut().enumerate() {
+            let f = row[col] / d;
+            for (x, p) in row[col..k].iter_mut().zip(pivot_row) {
+                *x -= f * p;
             }
-            b.swap(piv, col);
-        }
-        for r in col + 1..k {
-            let f = a[r][col] / d;
-            for c in col..k {
-                a[r][c] -= f * a[col][c];
-            }
-            b[r] -= f * b[col];
+            b[col + 1 + r] -= f * b[col];
         }
     }
     for r in (0..k).rev() {
