@@ -95,7 +95,7 @@ fn run_writes_every_output_and_a_complete_summary() {
     ] {
         assert!(json["energy"][key].is_number(), "energy.{key}");
     }
-    for key in ["solves", "failures", "max_pivots"] {
+    for key in ["solves", "failures", "max_pivots", "warm_starts"] {
         assert!(json["lcp"][key].is_number(), "lcp.{key}");
     }
     for key in [

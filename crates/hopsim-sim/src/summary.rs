@@ -40,6 +40,8 @@ pub struct LcpSummary {
     pub solves: u64,
     pub failures: u64,
     pub max_pivots: usize,
+    /// Solves answered by the previous step's basis, without pivots (docs/lcp.md).
+    pub warm_starts: u64,
 }
 
 /// Totals over the speed window (the last `speed_window_s`), from which scene-specific
@@ -162,6 +164,7 @@ impl SummaryCollector {
                 solves: lcp.solves,
                 failures: lcp.failures,
                 max_pivots: lcp.max_pivots,
+                warm_starts: lcp.warm_starts,
             },
             wall_time_s,
             steps_per_s: self.steps as f64 / wall_time_s.max(1e-9),

@@ -246,8 +246,8 @@ impl fmt::Display for RunReport {
         writeln!(f, "  max penetration    {:>10.3e} m", s.max_penetration_m)?;
         writeln!(
             f,
-            "  LCP                {} solves, {} failures, at most {} pivots",
-            s.lcp.solves, s.lcp.failures, s.lcp.max_pivots
+            "  LCP                {} solves ({} from the previous step's basis), {} failures, at most {} pivots",
+            s.lcp.solves, s.lcp.warm_starts, s.lcp.failures, s.lcp.max_pivots
         )?;
         write!(
             f,
