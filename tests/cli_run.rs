@@ -111,6 +111,34 @@ fn run_writes_every_output_and_a_complete_summary() {
     assert_eq!(rec.scene.map(|s| s.text), Some(scene));
 }
 
+/// `simulation.warm_start = false` solves every contact LCP from scratch; the default
+/// answers most of Robbit's stance steps from the previous step's basis, and both give
+/// the same run up to round-off (one solution per LCP).
+#[test]
+fn warm_start_can_be_switched_off() {
+    let summary = |extra: &[&str]| -> serde_json::Value {
+        let dir = tempfile::tempdir().unwrap();
+        let json = dir.path().join("r.json").display().to_string();
+        let mut args = vec!["run", "scenes/robbit.toml", "--duration", "3", "--quiet"];
+        args.extend(extra);
+        args.extend(["--summary", json.as_str()]);
+        let out = hopsim(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+    };
+    let warm = summary(&[]);
+    let cold = summary(&["--set", "simulation.warm_start=false"]);
+    let solves = warm["lcp"]["solves"].as_u64().unwrap();
+    assert_eq!(cold["lcp"]["solves"].as_u64(), Some(solves));
+    assert_eq!(cold["lcp"]["warm_starts"].as_u64(), Some(0));
+    let warm_starts = warm["lcp"]["warm_starts"].as_u64().unwrap();
+    assert!(warm_starts * 10 > solves * 9, "{warm_starts} of {solves}");
+    let (a, b) = (&warm["distance_m"], &cold["distance_m"]);
+    let (a, b) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+    assert!((a - b).abs() <= 1e-9 * a.abs().max(1.0), "{a} against {b}");
+    assert_eq!(warm["hops"], cold["hops"]);
+}
+
 /// Every gallery scene (`scenes/classic/`) runs from the command line and records to MCAP
 /// and Rerun; the MCAP holds the scene's states and names its coordinates.
 #[test]

@@ -290,7 +290,7 @@ impl PyScene {
 
     /// `[simulation]` and `[summary]` settings: `duration` (s), `dt` (s), `gravity`
     /// (m/s²), `record_rate` (Hz), `speed_window` (s), `cube_restitution`, `strict`,
-    /// `max_speed`.
+    /// `warm_start`, `max_speed`.
     #[getter]
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &self.scene.settings;
@@ -302,6 +302,7 @@ impl PyScene {
         d.set_item("speed_window", s.speed_window)?;
         d.set_item("cube_restitution", s.cube_restitution)?;
         d.set_item("strict", s.strict)?;
+        d.set_item("warm_start", s.warm_start)?;
         d.set_item("max_speed", s.max_speed)?;
         Ok(d)
     }

@@ -58,6 +58,7 @@ impl Scene {
             dt: self.settings.dt,
             strict: self.settings.strict,
             max_speed: self.settings.max_speed,
+            warm_start: self.settings.warm_start,
             ..StepSettings::default()
         }
     }

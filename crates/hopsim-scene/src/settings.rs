@@ -34,6 +34,8 @@ pub struct Settings {
     pub cube_restitution: f64,
     /// Stop on the first contact LCP without a certified solution.
     pub strict: bool,
+    /// Try the previous step's complementary basis before Lemke's method (docs/lcp.md).
+    pub warm_start: bool,
     /// A generalised velocity above this stops the run as a runaway state (m/s or rad/s).
     pub max_speed: f64,
 }
@@ -122,6 +124,7 @@ pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Sett
         speed_window,
         cube_restitution: summary.f64_or("cube_restitution", 0.5, Num::range(0.0, 1.0, ""))?,
         strict: sim.bool_or("strict", false)?,
+        warm_start: sim.bool_or("warm_start", true)?,
         max_speed: sim.f64_or("max_speed", 1e4, Num::positive("m/s or rad/s"))?,
     })
 }
