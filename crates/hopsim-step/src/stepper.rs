@@ -381,9 +381,9 @@ impl Stepper {
         // Stage 1: midpoint.
         self.midpoint::<N>(state);
         // Stage 2: kinematics, mass matrix and its factor, forces.
-        self.dynamics(model, actuation, step, t)?;
+        self.dynamics::<N>(model, actuation, step, t)?;
         // Stage 3: applied impulses and velocity locks.
-        self.impulses_and_locks(actuation, step, t)?;
+        self.impulses_and_locks::<N>(actuation, step, t)?;
         // Stage 4: index set.
         let k = self.index_set::<N>(model);
         // Stage 5: free velocity ũ and G W.
@@ -415,7 +415,7 @@ impl Stepper {
     /// `L D Lᵀ` factor (built once when `M` does not depend on `q`), `h(q^M, u^A)` split into
     /// the damping forces and the rest, with the motor torques as the applied forces.
     #[inline]
-    fn dynamics(
+    fn dynamics<const N: usize>(
         &mut self,
         model: &Model,
         actuation: &Actuation,
@@ -431,7 +431,7 @@ impl Stepper {
             }
             self.mass_fixed = self.kinematics.jacobian_is_constant();
         }
-        self.applied.fill(0.0);
+        self.applied[..dof::<N>(self.n)].fill(0.0);
         for torque in &actuation.torques {
             self.kinematics.add_torque_to(
                 torque.body,
@@ -455,13 +455,13 @@ impl Stepper {
     /// Stage 3: the generalised applied impulses at `q^M` (docs/physics.md §3, `J_iᵀ ζ`) and the
     /// velocity locks `Bᵀ u^E = 0`, prepared for eliminating their percussion (§4.4).
     #[inline]
-    fn impulses_and_locks(
+    fn impulses_and_locks<const N: usize>(
         &mut self,
         actuation: &Actuation,
         step: u64,
         t: f64,
     ) -> Result<(), StepError> {
-        self.impulse.fill(0.0);
+        self.impulse[..dof::<N>(self.n)].fill(0.0);
         for command in &actuation.impulses {
             match *command {
                 ImpulseCommand::Point {
