@@ -1,5 +1,8 @@
 //! The a-posteriori certificate of an LCP answer, computed from the original `M`, `q`.
 
+use crate::tableau::{leading_dim, set_padded, sub_scaled_padded};
+use nalgebra::{DMatrixView, RawStorage};
+
 /// How well `(z, w)` satisfies `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`.
 ///
 /// All three measures are in the units of `w`, with `z` entering as `‖M‖_∞ z` (the change
@@ -27,11 +30,41 @@ impl Certificate {
     }
 }
 
+/// `M` read in place from the caller's matrix: column `j` is `data[j·stride..][..n]`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MatRef<'a> {
+    data: &'a [f64],
+    stride: usize,
+    n: usize,
+}
+
+impl<'a> MatRef<'a> {
+    /// The square view `m` (row stride 1, any column stride), without copying.
+    pub fn new(m: &'a DMatrixView<'_, f64>) -> Self {
+        debug_assert_eq!(m.nrows(), m.ncols());
+        // SAFETY: only shared views of the data exist while `data` lives, so the span from
+        // the first to the last element of `m` (which includes the rows between the
+        // columns of a view into a larger matrix) is only read.
+        let data = unsafe { m.data.as_slice_unchecked() };
+        MatRef {
+            data,
+            stride: m.strides().1,
+            n: m.nrows(),
+        }
+    }
+
+    /// Column `j` (`n` entries).
+    #[inline(always)]
+    pub fn col(&self, j: usize) -> &'a [f64] {
+        let start = j * self.stride;
+        &self.data[start..start + self.n]
+    }
+}
+
 /// The original problem with the norms its certificates are scaled by.
 pub(crate) struct ProblemRef<'a> {
-    /// `M`, an exact column-major copy with column stride `ld` (zero padding rows).
-    pub m: &'a [f64],
-    pub ld: usize,
+    /// `M`, the caller's data.
+    pub m: MatRef<'a>,
     pub q: &'a [f64],
     /// `‖M‖_∞` (maximum absolute row sum).
     pub m_norm: f64,
@@ -44,22 +77,22 @@ impl ProblemRef<'_> {
     /// `M_ij`.
     #[inline(always)]
     pub fn m(&self, i: usize, j: usize) -> f64 {
-        self.m[j * self.ld + i]
+        self.m.col(j)[i]
     }
 
-    /// Certificate of `(z, w)`; `mz` is scratch of length `ld`. Allocates nothing.
+    /// Certificate of `(z, w)`; `mz` is scratch of length `leading_dim(n)`. Allocates
+    /// nothing.
     #[inline(always)]
     pub fn certify(&self, z: &[f64], w: &[f64], mz: &mut [f64]) -> Certificate {
         let n = self.q.len();
-        let ld = self.ld;
-        let (z, w, mz) = (&z[..n], &w[..n], &mut mz[..ld]);
-        crate::tableau::set_padded(mz, 1.0, self.q);
+        let (z, w, mz) = (&z[..n], &w[..n], &mut mz[..leading_dim(n)]);
+        set_padded(mz, 1.0, self.q);
         let mut z_norm: f64 = 0.0;
         for (j, &zj) in z.iter().enumerate() {
             let a = zj.abs();
             z_norm = if a > z_norm { a } else { z_norm };
             if zj != 0.0 {
-                crate::tableau::sub_scaled(mz, -zj, &self.m[j * ld..(j + 1) * ld]);
+                sub_scaled_padded(mz, -zj, &self.m.col(j)[..n]);
             }
         }
         let mut complementarity: f64 = 0.0;

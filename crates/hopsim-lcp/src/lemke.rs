@@ -6,10 +6,10 @@
 //! `M` and `q` are scaled internally by powers of two (exact), so the pivoting tolerances
 //! are relative to the problem; the certificate is always computed on the original data.
 
-use crate::certificate::ProblemRef;
+use crate::certificate::{MatRef, ProblemRef};
 use crate::enumerate::{self, BasisScratch};
 use crate::primary::{self, End, Primary, Settings};
-use crate::tableau::{self, Aligned, Ending, Scales, Work};
+use crate::tableau::{self, Ending, Scales, Work};
 use crate::{Certificate, LcpInputError, LcpProblem, LcpSolution, LcpStatus, SolveMethod};
 use nalgebra::{DMatrix, DMatrixView, DVector, DVectorView};
 
@@ -58,8 +58,6 @@ pub struct LemkeSolver {
     work: Work,
     /// Outcome of the hot path of the last solve.
     prim: Primary,
-    /// Exact copy of `M`, column-major with stride `leading_dim(n)`.
-    m_copy: Aligned,
     zs: Vec<f64>,
     ws: Vec<f64>,
     lu: Vec<f64>,
@@ -81,7 +79,6 @@ impl LemkeSolver {
             cap: 0,
             work: Work::default(),
             prim: Primary::default(),
-            m_copy: Aligned::default(),
             zs: Vec::new(),
             ws: Vec::new(),
             lu: Vec::new(),
@@ -116,7 +113,6 @@ impl LemkeSolver {
     #[inline(never)]
     fn grow(&mut self, n: usize) {
         self.work.reserve(n);
-        self.m_copy.reserve(tableau::leading_dim(n) * n);
         self.zs.resize(n, 0.0);
         self.ws.resize(n, 0.0);
         self.lu.resize(n * n, 0.0);
@@ -186,9 +182,9 @@ impl LemkeSolver {
         };
         let z = self.sol.z.as_mut_slice();
         let w = self.sol.w.as_mut_slice();
-        let m_copy = self.m_copy.as_mut_slice();
+        let m = MatRef::new(&m);
         let prim = &mut self.prim;
-        primary::primary(&mut self.work, m_copy, &m, q, z, w, &settings, prim)?;
+        primary::primary(&mut self.work, m, q, z, w, &settings, prim)?;
         let sol = &mut self.sol;
         sol.pivots = prim.pivots;
         sol.certificate = prim.certificate;
@@ -197,10 +193,8 @@ impl LemkeSolver {
             End::Trivial => sol.method = SolveMethod::Trivial,
             End::Solved => sol.method = SolveMethod::Lemke,
             End::Failed(ending) => {
-                let m_copy = std::mem::take(&mut self.m_copy);
                 let prim = self.prim;
-                self.recover(m_copy.as_slice(), q, &prim, ending);
-                self.m_copy = m_copy;
+                self.recover(m, q, &prim, ending);
             }
         }
         Ok(&self.sol)
@@ -219,12 +213,10 @@ impl LemkeSolver {
     /// then (if enabled) other covering vectors and enumeration. Publishes the result.
     #[cold]
     #[inline(never)]
-    fn recover(&mut self, m_copy: &[f64], q: &[f64], prim: &Primary, ending: Ending) {
+    fn recover(&mut self, m: MatRef<'_>, q: &[f64], prim: &Primary, ending: Ending) {
         let n = q.len();
-        let ld = tableau::leading_dim(n);
         let p = &ProblemRef {
-            m: &m_copy[..ld * n],
-            ld,
+            m,
             q,
             m_norm: prim.m_norm,
             q_norm: prim.q_norm,

@@ -6,10 +6,13 @@
 //! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors. The `w`
 //! block is `B⁻¹` at every step, which is what the lexicographic test compares. A pivot
 //! updates only the right-hand side and the `n + 1` non-basic columns (kept in a list).
+//! The column of a basic variable is the unit vector of its row and is not stored: the
+//! buffer holds stale values there, the lexicographic tie-break reads the basis instead,
+//! and a variable's unit column is written when it leaves the basis.
 //! Everything here is `#[inline(always)]` so that `primary.rs` can specialise it for each
 //! small `n` (fixed trip counts) and instruction set.
 
-use nalgebra::DMatrixView;
+use crate::certificate::MatRef;
 
 /// Entries of the entering column at most `PIV_TOL · max(1, max_i |col_i|)` cannot pivot.
 const PIV_TOL: f64 = 1e-12;
@@ -62,33 +65,26 @@ impl Scales {
     }
 }
 
-/// `x ← x − f·y` over whole groups of four (all of a group's loads come before its stores,
-/// so the compiler vectorises without having to prove that `x` and `y` do not overlap).
-/// Lengths are multiples of 4 (`leading_dim`); a shorter tail is left alone.
-#[inline(always)]
-pub(crate) fn sub_scaled(x: &mut [f64], f: f64, y: &[f64]) {
-    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
-        let v = [
-            xc[0] - f * yc[0],
-            xc[1] - f * yc[1],
-            xc[2] - f * yc[2],
-            xc[3] - f * yc[3],
-        ];
-        xc.copy_from_slice(&v);
-    }
-}
-
-/// Unit vectors of one group of four, as constants (loading one never waits on a store).
+/// One-hot row masks of one group of four, as constants (loading one never waits on a
+/// store): the marked lane is the one with the sign bit set.
 const ONE_HOT: [[f64; 4]; 4] = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-    [0.0, 0.0, 0.0, 1.0],
+    [-1.0, 0.0, 0.0, 0.0],
+    [0.0, -1.0, 0.0, 0.0],
+    [0.0, 0.0, -1.0, 0.0],
+    [0.0, 0.0, 0.0, -1.0],
 ];
 
+/// Whether `h` marks its row in a mask made by [`set_hot`]: a test of the sign bit alone,
+/// which a vector blend reads directly (no compare per column).
+#[inline(always)]
+fn marked(h: f64) -> bool {
+    (h.to_bits() as i64) < 0
+}
+
 /// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
-/// row mask) is set, all in whole-group vector stores. (A scalar store into a column that
-/// the next pivot reads back with vector loads stalls store-to-load forwarding.)
+/// row mask, see [`set_hot`]) is marked, all in whole-group vector stores. (A scalar store
+/// into a column that the next pivot reads back with vector loads stalls store-to-load
+/// forwarding.)
 #[inline(always)]
 fn eliminate(x: &mut [f64], f: f64, y: &[f64], hot: &[f64]) {
     for ((xc, yc), hc) in x
@@ -99,15 +95,33 @@ fn eliminate(x: &mut [f64], f: f64, y: &[f64], hot: &[f64]) {
         let mut v = [0.0; 4];
         for k in 0..4 {
             let e = xc[k] - f * yc[k];
-            v[k] = if hc[k] != 0.0 { f } else { e };
+            v[k] = if marked(hc[k]) { f } else { e };
         }
         xc.copy_from_slice(&v);
     }
 }
 
-/// `x ← e_r` in whole-group vector stores (see [`eliminate`]).
+/// The pivot update of a column that was the unit vector `e_r` (see [`eliminate`] with
+/// `x = e_r`, `f = inv`), written without reading `x`.
 #[inline(always)]
-fn set_unit(x: &mut [f64], r: usize) {
+fn eliminate_unit(x: &mut [f64], inv: f64, y: &[f64], hot: &[f64]) {
+    for ((xc, yc), hc) in x
+        .chunks_exact_mut(4)
+        .zip(y.chunks_exact(4))
+        .zip(hot.chunks_exact(4))
+    {
+        let mut v = [0.0; 4];
+        for k in 0..4 {
+            let e = 0.0 - inv * yc[k];
+            v[k] = if marked(hc[k]) { inv } else { e };
+        }
+        xc.copy_from_slice(&v);
+    }
+}
+
+/// The one-hot mask of row `r` (see [`marked`]) in whole-group vector stores.
+#[inline(always)]
+fn set_hot(x: &mut [f64], r: usize) {
     let (gr, hot) = (r / 4, &ONE_HOT[r % 4]);
     for (g, xc) in x.chunks_exact_mut(4).enumerate() {
         xc.copy_from_slice(if g == gr { hot } else { &[0.0; 4] });
@@ -118,24 +132,43 @@ fn set_unit(x: &mut [f64], r: usize) {
 /// vector stores (see [`eliminate`]).
 #[inline(always)]
 pub(crate) fn set_padded(x: &mut [f64], f: f64, src: &[f64]) {
-    let n = src.len();
     for (g, xc) in x.chunks_exact_mut(4).enumerate() {
-        let mut v = [0.0; 4];
-        for (k, vk) in v.iter_mut().enumerate() {
-            let i = 4 * g + k;
-            *vk = if i < n { f * src[i] } else { 0.0 };
-        }
+        let v = map_group(src, g, |_, s| f * s);
         xc.copy_from_slice(&v);
     }
 }
 
-/// `x ← f·y` over whole groups of four (see [`sub_scaled`]).
+/// `x ← x − f·src` on the first `src.len()` entries and zero on the rest of `x`, in
+/// whole-group vector stores (see [`eliminate`]).
 #[inline(always)]
-fn set_scaled(x: &mut [f64], f: f64, y: &[f64]) {
-    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
-        let v = [f * yc[0], f * yc[1], f * yc[2], f * yc[3]];
+pub(crate) fn sub_scaled_padded(x: &mut [f64], f: f64, src: &[f64]) {
+    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
+        let v = map_group(src, g, |k, s| xc[k] - f * s);
         xc.copy_from_slice(&v);
     }
+}
+
+/// `[h(k, src[4g + k])]` for `k < 4`, zero past the end of `src`: whole groups without a
+/// test per entry (the padded tail of a dynamic size would pay one).
+#[inline(always)]
+fn map_group(src: &[f64], g: usize, mut h: impl FnMut(usize, f64) -> f64) -> [f64; 4] {
+    let i = 4 * g;
+    let mut v = [0.0; 4];
+    if i + 4 <= src.len() {
+        let s = &src[i..i + 4];
+        for k in 0..4 {
+            v[k] = h(k, s[k]);
+        }
+    } else {
+        for (k, vk) in v.iter_mut().enumerate() {
+            *vk = if i + k < src.len() {
+                h(k, src[i + k])
+            } else {
+                0.0
+            };
+        }
+    }
+    v
 }
 
 /// `1 / pow2_floor(x)`, exactly, without a division.
@@ -209,8 +242,9 @@ pub(crate) struct Work {
     nb_pos: Vec<usize>,
     /// `ld`: copy of the entering column.
     col: Vec<f64>,
-    /// `ld`, `n`: ratio-test scratch.
-    theta: Vec<f64>,
+    /// `ld`: the pivot row's one-hot mask (large `n`).
+    hot: Vec<f64>,
+    /// `n`: ratio-test scratch.
     ties: Vec<usize>,
     /// `n`: the covering vector of the next run.
     cover: Vec<f64>,
@@ -229,7 +263,7 @@ pub(crate) struct Parts<'a> {
     pub nonbasic: &'a mut [usize],
     pub nb_pos: &'a mut [usize],
     pub col: &'a mut [f64],
-    pub theta: &'a mut [f64],
+    pub hot: &'a mut [f64],
     pub ties: &'a mut [usize],
     pub cover: &'a mut [f64],
     pub row_sum: &'a mut [f64],
@@ -247,7 +281,7 @@ impl Work {
             nonbasic: &mut self.nonbasic[..n + 1],
             nb_pos: &mut self.nb_pos[..2 * n + 1],
             col: &mut self.col[..ld],
-            theta: &mut self.theta[..ld],
+            hot: &mut self.hot[..ld],
             ties: &mut self.ties[..n],
             cover: &mut self.cover[..n],
             row_sum: &mut self.row_sum[..ld],
@@ -262,7 +296,7 @@ impl Work {
         self.nonbasic.resize(n + 1, 0);
         self.nb_pos.resize(2 * n + 1, 0);
         self.col.resize(ld, 0.0);
-        self.theta.resize(ld, 0.0);
+        self.hot.resize(ld, 0.0);
         self.ties.resize(n, 0);
         self.cover.resize(n, 0.0);
         self.row_sum.resize(ld, 0.0);
@@ -270,22 +304,11 @@ impl Work {
     }
 }
 
-/// Copies `M` into `copy` (column-major, stride `ld`, zero padding rows) and returns
-/// `‖M‖_∞`; a non-finite result means `M` has a non-finite entry (or row sums overflow).
-/// `row_sum` is scratch of length `ld`.
+/// `‖M‖_∞`, read in place; a non-finite result means `M` has a non-finite entry (or row
+/// sums overflow). `row_sum` is scratch of length `ld`.
 #[inline(always)]
-pub(crate) fn copy_matrix(
-    n: usize,
-    m: &DMatrixView<'_, f64>,
-    copy: &mut [f64],
-    row_sum: &mut [f64],
-) -> f64 {
+pub(crate) fn matrix_norm(n: usize, m: MatRef<'_>, row_sum: &mut [f64]) -> f64 {
     let ld = leading_dim(n);
-    let copy = &mut copy[..ld * n];
-    for (j, dst) in copy.chunks_exact_mut(ld).enumerate() {
-        let src = m.column(j);
-        set_padded(dst, 1.0, &src.as_slice()[..n]);
-    }
     // Small n: accumulate on the stack (registers).
     let mut local = [0.0; leading_dim(MAX_FIXED)];
     let row_sum = if n <= MAX_FIXED {
@@ -294,9 +317,11 @@ pub(crate) fn copy_matrix(
         &mut row_sum[..ld]
     };
     row_sum.fill(0.0);
-    for col in copy.chunks_exact(ld) {
-        for (s, &v) in row_sum.iter_mut().zip(col) {
-            *s += v.abs();
+    for j in 0..n {
+        let col = &m.col(j)[..n];
+        for (g, s4) in row_sum.chunks_exact_mut(4).enumerate() {
+            let v = map_group(col, g, |k, c| s4[k] + c.abs());
+            s4.copy_from_slice(&v);
         }
     }
     // Four lanes: independent chains. The sum exposes NaN and ∞ (max skips NaN).
@@ -315,19 +340,19 @@ pub(crate) fn copy_matrix(
     }
 }
 
-/// Loads `[q·q_inv | I | −M·m_inv | −d]` (`M` the copy made by [`copy_matrix`],
-/// `d = work.cover`) with basis `w`; returns `m_inv = 1 / pow2_floor(m_norm)`.
+/// Loads `[q·q_inv | I | −M·m_inv | −d]` (`d = work.cover`) with basis `w`; returns
+/// `m_inv = 1 / pow2_floor(m_norm)`. The basic columns `I` are implicit (not written).
 #[inline(always)]
 pub(crate) fn load(
     n: usize,
     t: &mut Parts<'_>,
-    m_copy: &[f64],
+    m: MatRef<'_>,
     q: &[f64],
     q_inv: f64,
     m_norm: f64,
 ) -> f64 {
     load_slices(
-        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.cover, m_copy, q, q_inv, m_norm,
+        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.cover, m, q, q_inv, m_norm,
     )
 }
 
@@ -340,7 +365,7 @@ fn load_slices(
     nonbasic: &mut [usize],
     nb_pos: &mut [usize],
     cover: &[f64],
-    m_copy: &[f64],
+    m: MatRef<'_>,
     q: &[f64],
     q_inv: f64,
     m_norm: f64,
@@ -349,14 +374,13 @@ fn load_slices(
     let tab = &mut tab[..ld * (2 * n + 2)];
     let q = &q[..n];
     let (rhs, rest) = tab.split_at_mut(ld);
-    let (eye, rest) = rest.split_at_mut(n * ld);
+    let (_eye, rest) = rest.split_at_mut(n * ld);
     let (zcols, dcol) = rest.split_at_mut(n * ld);
     set_padded(rhs, q_inv, q);
-    for (i, e) in eye.chunks_exact_mut(ld).enumerate() {
-        set_unit(e, i);
-    }
     let m_inv = inv_pow2_floor(m_norm);
-    set_scaled(zcols, -m_inv, &m_copy[..ld * n]);
+    for (j, zc) in zcols.chunks_exact_mut(ld).enumerate() {
+        set_padded(zc, -m_inv, &m.col(j)[..n]);
+    }
     set_padded(dcol, -1.0, &cover[..n]);
     for (i, b) in basis[..n].iter_mut().enumerate() {
         *b = i;
@@ -365,7 +389,7 @@ fn load_slices(
         *v = n + k;
     }
     for (v, p) in nb_pos[..2 * n + 1].iter_mut().enumerate() {
-        *p = v.wrapping_sub(n);
+        *p = if v < n { usize::MAX } else { v - n };
     }
     m_inv
 }
@@ -375,7 +399,7 @@ fn load_slices(
 #[inline(always)]
 pub(crate) fn pivot_loop(n: usize, t: &mut Parts<'_>, max_pivots: usize) -> (Ending, usize) {
     pivot_loop_slices(
-        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.theta, t.ties, t.cover, max_pivots,
+        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.hot, t.ties, t.cover, max_pivots,
     )
 }
 
@@ -388,7 +412,7 @@ fn pivot_loop_slices(
     nonbasic: &mut [usize],
     nb_pos: &mut [usize],
     col: &mut [f64],
-    theta: &mut [f64],
+    hot: &mut [f64],
     ties: &mut [usize],
     cover: &[f64],
     max_pivots: usize,
@@ -406,7 +430,6 @@ fn pivot_loop_slices(
     } else {
         &mut col[..ld]
     };
-    let theta = &mut theta[..ld];
     let ties = &mut ties[..n];
     let cover = &cover[..n];
     if max_pivots == 0 {
@@ -414,12 +437,23 @@ fn pivot_loop_slices(
     }
 
     // z0 enters; the row lexicographically minimising (q_i, e_i)/d_i leaves.
-    let Some(r) = lex_min_ratio(n, ld, tab, cover, 0.0, false, usize::MAX, ties) else {
+    let Some(r) = lex_min_ratio(
+        n,
+        ld,
+        tab,
+        basis,
+        nb_pos,
+        cover,
+        0.0,
+        false,
+        usize::MAX,
+        ties,
+    ) else {
         return (Ending::Breakdown, 0);
     };
     set_padded(col, -1.0, cover);
     pivot(
-        theta, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0,
+        hot, n, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0,
     );
     let z0_row = r;
     let mut leaving = r; // w_r
@@ -451,13 +485,27 @@ fn pivot_loop_slices(
         }
         let col_max = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
         let tol = PIV_TOL * col_max;
-        let Some(r) = lex_min_ratio(n, ld, tab, entering_col, tol, true, z0_row, ties) else {
+        let ratio = lex_min_ratio(
+            n,
+            ld,
+            tab,
+            basis,
+            nb_pos,
+            entering_col,
+            tol,
+            true,
+            z0_row,
+            ties,
+        );
+        let Some(r) = ratio else {
             return (Ending::Ray, pivots);
         };
         let p = entering_col[r];
         col.copy_from_slice(entering_col);
         leaving = basis[r];
-        pivot(theta, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering);
+        pivot(
+            hot, n, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering,
+        );
         pivots += 1;
         if !tab[r].is_finite() {
             return (Ending::Breakdown, pivots);
@@ -505,6 +553,8 @@ fn lex_min_ratio(
     n: usize,
     ld: usize,
     tab: &[f64],
+    basis: &[usize],
+    nb_pos: &[usize],
     col: &[f64],
     tol: f64,
     clamp: bool,
@@ -546,30 +596,58 @@ fn lex_min_ratio(
     if count <= 1 {
         return Some(best);
     }
-    Some(break_ties(n, ld, tab, col, &mut ties[..count]))
+    Some(break_ties(
+        n,
+        ld,
+        tab,
+        basis,
+        nb_pos,
+        col,
+        &mut ties[..count],
+    ))
 }
 
 /// Lexicographic tie-break on the rows of `B⁻¹` (the w-columns), column by column; the
-/// rows of `B⁻¹` are independent, so one row remains (up to round-off).
+/// rows of `B⁻¹` are independent, so one row remains (up to round-off). The column of a
+/// basic `w_k` is the unit vector of its row (not stored).
 #[cold]
 #[inline(never)]
-fn break_ties(n: usize, ld: usize, tab: &[f64], col: &[f64], ties: &mut [usize]) -> usize {
+fn break_ties(
+    n: usize,
+    ld: usize,
+    tab: &[f64],
+    basis: &[usize],
+    nb_pos: &[usize],
+    col: &[f64],
+    ties: &mut [usize],
+) -> usize {
     let mut count = ties.len();
     for k in 0..n {
-        let bk = &tab[(1 + k) * ld..(2 + k) * ld];
-        let vmin = ties[..count]
-            .iter()
-            .fold(f64::INFINITY, |a, &i| a.min(bk[i] / col[i]));
-        let cut = vmin + TIE_TOL * vmin.abs().max(1.0);
-        let mut kept = 0;
-        for t in 0..count {
-            let i = ties[t];
-            if bk[i] / col[i] <= cut {
-                ties[kept] = i;
-                kept += 1;
+        if nb_pos[k] == usize::MAX {
+            // `w_k` is basic: column `k` of B⁻¹ is `e_row` (not stored), so every ratio is 0
+            // but `1/col_row` if its row ties; the minimum is 0 and the cut `TIE_TOL`.
+            if let Some(t) = ties[..count].iter().position(|&i| basis[i] == k) {
+                if 1.0 / col[ties[t]] > TIE_TOL {
+                    ties.copy_within(t + 1..count, t);
+                    count -= 1;
+                }
             }
+        } else {
+            let bk = &tab[(1 + k) * ld..(2 + k) * ld];
+            let vmin = ties[..count]
+                .iter()
+                .fold(f64::INFINITY, |a, &i| a.min(bk[i] / col[i]));
+            let cut = vmin + TIE_TOL * vmin.abs().max(1.0);
+            let mut kept = 0;
+            for t in 0..count {
+                let i = ties[t];
+                if bk[i] / col[i] <= cut {
+                    ties[kept] = i;
+                    kept += 1;
+                }
+            }
+            count = kept.max(1);
         }
-        count = kept.max(1);
         if count == 1 {
             break;
         }
@@ -577,13 +655,15 @@ fn break_ties(n: usize, ld: usize, tab: &[f64], col: &[f64], ties: &mut [usize])
     ties[0]
 }
 
-/// Pivots on row `r` with `entering` (its column copied in `col`, `p = col[r]`): the row's basic
-/// variable leaves. Updates the right-hand side and the non-basic columns (the leaving
-/// variable's unit column among them); the entering column becomes `e_r`.
+/// Pivots on row `r` with `entering` (its column copied in `col`, `p = col[r]`): the row's
+/// basic variable leaves. Updates the right-hand side and the non-basic columns; the
+/// leaving variable's column, the unit vector `e_r` it stood for (not stored), is written
+/// directly; the entering column becomes implicit (basic).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn pivot(
     hot_buf: &mut [f64],
+    n: usize,
     ld: usize,
     tab: &mut [f64],
     basis: &mut [usize],
@@ -609,18 +689,24 @@ fn pivot(
     } else {
         &mut hot_buf[..ld]
     };
-    set_unit(hot, r);
+    set_hot(hot, r);
     let hot = &*hot;
-    let update = |column: &mut [f64]| {
-        let column = &mut column[..ld];
+    let tab = &mut tab[..ld * (2 * n + 2)];
+    let mut update = |c: usize| {
+        debug_assert!(c < 2 * n + 2);
+        // SAFETY: `c ≤ 2n + 1` (the right-hand side or `1 +` a variable `< 2n + 1`), and
+        // `tab` has `2n + 2` columns of `ld` entries.
+        let column = unsafe { tab.get_unchecked_mut(c * ld..(c + 1) * ld) };
         let f = column[r] * inv;
         eliminate(column, f, col, hot);
     };
-    update(&mut tab[..ld]);
-    for &v in nonbasic.iter() {
-        let c = 1 + v;
-        update(&mut tab[c * ld..(c + 1) * ld]);
+    update(0);
+    for &v in &nonbasic[..slot] {
+        update(1 + v);
     }
-    let c = 1 + entering;
-    set_unit(&mut tab[c * ld..(c + 1) * ld], r);
+    for &v in &nonbasic[slot + 1..] {
+        update(1 + v);
+    }
+    let c = 1 + leaving;
+    eliminate_unit(&mut tab[c * ld..(c + 1) * ld], inv, col, hot);
 }
