@@ -58,6 +58,10 @@ pub struct LemkeSolver {
     work: Work,
     /// Outcome of the hot path of the last solve.
     prim: Primary,
+    /// The size `n` for which `work.cover` holds the configured covering vector, checked
+    /// (`usize::MAX`: none): it is checked and written once per size or options change,
+    /// not per solve.
+    cover_n: usize,
     zs: Vec<f64>,
     ws: Vec<f64>,
     lu: Vec<f64>,
@@ -79,6 +83,7 @@ impl LemkeSolver {
             cap: 0,
             work: Work::default(),
             prim: Primary::default(),
+            cover_n: usize::MAX,
             zs: Vec::new(),
             ws: Vec::new(),
             lu: Vec::new(),
@@ -94,6 +99,7 @@ impl LemkeSolver {
 
     pub fn set_options(&mut self, options: LemkeOptions) {
         self.options = options;
+        self.cover_n = usize::MAX;
     }
 
     /// The result of the last call of [`LemkeSolver::solve`] that did not return an error.
@@ -124,6 +130,7 @@ impl LemkeSolver {
             *v = DVector::from_vec(data);
         }
         self.cap = n;
+        self.cover_n = usize::MAX;
     }
 
     /// Solves `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` (the contact LCP of docs/physics.md §4 is
@@ -147,17 +154,8 @@ impl LemkeSolver {
         if q.len() != n {
             return Err(LcpInputError::SizeMismatch { n, q_len: q.len() });
         }
-        if let Some(d) = &self.options.covering {
-            if d.len() != n {
-                return Err(LcpInputError::CoveringLength { n, len: d.len() });
-            }
-            if let Some((index, &value)) = d
-                .iter()
-                .enumerate()
-                .find(|(_, v)| !(v.is_finite() && **v > 0.0))
-            {
-                return Err(LcpInputError::CoveringNotPositive { index, value });
-            }
+        if self.cover_n != n {
+            self.load_cover(n)?;
         }
         if n == 0 {
             set_len(&mut self.sol.z, 0);
@@ -166,12 +164,6 @@ impl LemkeSolver {
             (sol.status, sol.method, sol.pivots) = (LcpStatus::Solved, SolveMethod::Trivial, 0);
             sol.certificate = Certificate::default();
             return Ok(&self.sol);
-        }
-        self.reserve(n);
-        let cover = self.work.parts(n).cover;
-        match &self.options.covering {
-            Some(d) => cover.copy_from_slice(d),
-            None => cover.fill(1.0),
         }
         set_len(&mut self.sol.z, n);
         set_len(&mut self.sol.w, n);
@@ -198,6 +190,35 @@ impl LemkeSolver {
             }
         }
         Ok(&self.sol)
+    }
+
+    /// Checks the configured covering vector for size `n` and writes it into `work.cover`
+    /// (growing the buffers to `n`).
+    #[cold]
+    #[inline(never)]
+    fn load_cover(&mut self, n: usize) -> Result<(), LcpInputError> {
+        if let Some(d) = &self.options.covering {
+            if d.len() != n {
+                return Err(LcpInputError::CoveringLength { n, len: d.len() });
+            }
+            if let Some((index, &value)) = d
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+            {
+                return Err(LcpInputError::CoveringNotPositive { index, value });
+            }
+        }
+        if n > 0 {
+            self.reserve(n);
+            let cover = self.work.parts(n).cover;
+            match &self.options.covering {
+                Some(d) => cover.copy_from_slice(d),
+                None => cover.fill(1.0),
+            }
+        }
+        self.cover_n = n;
+        Ok(())
     }
 
     /// Solves a parsed [`LcpProblem`] (see [`LemkeSolver::solve`]).
@@ -242,6 +263,8 @@ impl LemkeSolver {
         }
         let mut pivots = pivots;
         let user = self.options.covering.is_some();
+        // The alternates overwrite the configured covering vector.
+        self.cover_n = usize::MAX;
         for attempt in 0..ALTERNATE_COVERINGS {
             alternate_covering(self.work.parts(n).cover, p.q, attempt, user);
             let (ending, more) = self.run(p, scales);
@@ -312,8 +335,8 @@ impl LemkeSolver {
         let n = p.q.len();
         let max_pivots = self.max_pivots(n);
         let mut t = self.work.parts(n);
-        tableau::load(n, &mut t, p.m, p.q, scales.q_inv, p.m_norm);
-        tableau::pivot_loop(n, &mut t, max_pivots)
+        let m_inv = tableau::load(n, &mut t, p.q, scales.q_inv, p.m_norm);
+        tableau::pivot_loop(n, &mut t, p.m, m_inv, max_pivots)
     }
 
     /// Copies the basic values of the tableau into `zs`, `ws` (unscaled); zeros if any

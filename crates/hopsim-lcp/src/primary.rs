@@ -187,9 +187,9 @@ fn core(
         w.copy_from_slice(q);
     } else {
         let q_inv = inv_pow2_floor(q_norm);
-        let m_inv = tableau::load(n, &mut t, m, q, q_inv, m_norm);
+        let m_inv = tableau::load(n, &mut t, q, q_inv, m_norm);
         out.scales = Scales::new(q_inv, m_inv, pow2_floor(q_norm));
-        let (ending, pivots) = tableau::pivot_loop(n, &mut t, s.max_pivots);
+        let (ending, pivots) = tableau::pivot_loop(n, &mut t, m, m_inv, s.max_pivots);
         out.end = End::Failed(ending);
         out.pivots = pivots;
         if ending != Ending::Complementary || !tableau::extract(n, &t, &out.scales, z, w) {

@@ -119,6 +119,46 @@ fn eliminate_unit(x: &mut [f64], inv: f64, y: &[f64], hot: &[f64]) {
     }
 }
 
+/// Column `c` (of `ld` entries) of the tableau `tab` (`2n + 2` columns); `c` is the
+/// right-hand side or `1 +` a variable `< 2n + 1`, so always in range.
+#[inline(always)]
+fn column_mut(tab: &mut [f64], ld: usize, c: usize) -> &mut [f64] {
+    debug_assert!((c + 1) * ld <= tab.len());
+    // SAFETY: the callers pass `c ≤ 2n + 1` with `tab.len() = (2n + 2)·ld` (checked in
+    // debug builds above): no bounds check per column update.
+    unsafe { tab.get_unchecked_mut(c * ld..(c + 1) * ld) }
+}
+
+/// [`eliminate`] of the column `x = s·src` (zero padded) as if it had been stored first:
+/// bit-identical, without the round trip through memory.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn eliminate_loaded(
+    x: &mut [f64],
+    s: f64,
+    src: &[f64],
+    r: usize,
+    inv: f64,
+    y: &[f64],
+    hot: &[f64],
+) {
+    let f = (s * src[r]) * inv;
+    for (g, ((xc, yc), hc)) in x
+        .chunks_exact_mut(4)
+        .zip(y.chunks_exact(4))
+        .zip(hot.chunks_exact(4))
+        .enumerate()
+    {
+        let xs = map_group(src, g, |_, v| s * v);
+        let mut v = [0.0; 4];
+        for k in 0..4 {
+            let e = xs[k] - f * yc[k];
+            v[k] = if marked(hc[k]) { f } else { e };
+        }
+        xc.copy_from_slice(&v);
+    }
+}
+
 /// The one-hot mask of row `r` (see [`marked`]) in whole-group vector stores.
 #[inline(always)]
 fn set_hot(x: &mut [f64], r: usize) {
@@ -340,66 +380,41 @@ pub(crate) fn matrix_norm(n: usize, m: MatRef<'_>, row_sum: &mut [f64]) -> f64 {
     }
 }
 
-/// Loads `[q·q_inv | I | −M·m_inv | −d]` (`d = work.cover`) with basis `w`; returns
-/// `m_inv = 1 / pow2_floor(m_norm)`. The basic columns `I` are implicit (not written).
+/// Loads the right-hand side `q·q_inv` and the basis `w` of the tableau
+/// `[q·q_inv | I | −M·m_inv | −d]` (`d = work.cover`); returns
+/// `m_inv = 1 / pow2_floor(m_norm)`. The columns of `I` stay implicit (basic), those of
+/// `−M·m_inv` are written by the first pivot ([`pivot_loop`]), that of `−d` never (`z0`
+/// enters at once and stays basic until it leaves, which ends the run).
 #[inline(always)]
-pub(crate) fn load(
+pub(crate) fn load(n: usize, t: &mut Parts<'_>, q: &[f64], q_inv: f64, m_norm: f64) -> f64 {
+    let ld = leading_dim(n);
+    set_padded(&mut t.tab[..ld], q_inv, &q[..n]);
+    for (i, b) in t.basis[..n].iter_mut().enumerate() {
+        *b = i;
+    }
+    for (k, v) in t.nonbasic[..n + 1].iter_mut().enumerate() {
+        *v = n + k;
+    }
+    for (v, p) in t.nb_pos[..2 * n + 1].iter_mut().enumerate() {
+        *p = if v < n { usize::MAX } else { v - n };
+    }
+    inv_pow2_floor(m_norm)
+}
+
+/// Lemke's pivoting on the tableau set up by [`load`] (`M`, `m_inv` give the columns of
+/// `z`, written by the first pivot); returns how it ended and the pivot count. The basic
+/// values are left in column 0 of `work.tab`, their variables in `work.basis`.
+#[inline(always)]
+pub(crate) fn pivot_loop(
     n: usize,
     t: &mut Parts<'_>,
     m: MatRef<'_>,
-    q: &[f64],
-    q_inv: f64,
-    m_norm: f64,
-) -> f64 {
-    load_slices(
-        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.cover, m, q, q_inv, m_norm,
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn load_slices(
-    n: usize,
-    tab: &mut [f64],
-    basis: &mut [usize],
-    nonbasic: &mut [usize],
-    nb_pos: &mut [usize],
-    cover: &[f64],
-    m: MatRef<'_>,
-    q: &[f64],
-    q_inv: f64,
-    m_norm: f64,
-) -> f64 {
-    let ld = leading_dim(n);
-    let tab = &mut tab[..ld * (2 * n + 2)];
-    let q = &q[..n];
-    let (rhs, rest) = tab.split_at_mut(ld);
-    let (_eye, rest) = rest.split_at_mut(n * ld);
-    let (zcols, dcol) = rest.split_at_mut(n * ld);
-    set_padded(rhs, q_inv, q);
-    let m_inv = inv_pow2_floor(m_norm);
-    for (j, zc) in zcols.chunks_exact_mut(ld).enumerate() {
-        set_padded(zc, -m_inv, &m.col(j)[..n]);
-    }
-    set_padded(dcol, -1.0, &cover[..n]);
-    for (i, b) in basis[..n].iter_mut().enumerate() {
-        *b = i;
-    }
-    for (k, v) in nonbasic[..n + 1].iter_mut().enumerate() {
-        *v = n + k;
-    }
-    for (v, p) in nb_pos[..2 * n + 1].iter_mut().enumerate() {
-        *p = if v < n { usize::MAX } else { v - n };
-    }
-    m_inv
-}
-
-/// Lemke's pivoting on the loaded tableau; returns how it ended and the pivot count. The
-/// basic values are left in column 0 of `work.tab`, their variables in `work.basis`.
-#[inline(always)]
-pub(crate) fn pivot_loop(n: usize, t: &mut Parts<'_>, max_pivots: usize) -> (Ending, usize) {
+    m_inv: f64,
+    max_pivots: usize,
+) -> (Ending, usize) {
     pivot_loop_slices(
-        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.hot, t.ties, t.cover, max_pivots,
+        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.hot, t.ties, t.cover, m, m_inv,
+        max_pivots,
     )
 }
 
@@ -415,6 +430,8 @@ fn pivot_loop_slices(
     hot: &mut [f64],
     ties: &mut [usize],
     cover: &[f64],
+    m: MatRef<'_>,
+    m_inv: f64,
     max_pivots: usize,
 ) -> (Ending, usize) {
     let ld = leading_dim(n);
@@ -452,8 +469,9 @@ fn pivot_loop_slices(
         return (Ending::Breakdown, 0);
     };
     set_padded(col, -1.0, cover);
+    let load_z = Some((m, m_inv));
     pivot(
-        hot, n, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0,
+        hot, n, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0, load_z,
     );
     let z0_row = r;
     let mut leaving = r; // w_r
@@ -504,7 +522,7 @@ fn pivot_loop_slices(
         col.copy_from_slice(entering_col);
         leaving = basis[r];
         pivot(
-            hot, n, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering,
+            hot, n, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering, None,
         );
         pivots += 1;
         if !tab[r].is_finite() {
@@ -673,6 +691,7 @@ fn pivot(
     p: f64,
     r: usize,
     entering: usize,
+    load_z: Option<(MatRef<'_>, f64)>,
 ) {
     let leaving = basis[r];
     basis[r] = entering;
@@ -692,20 +711,41 @@ fn pivot(
     set_hot(hot, r);
     let hot = &*hot;
     let tab = &mut tab[..ld * (2 * n + 2)];
-    let mut update = |c: usize| {
-        debug_assert!(c < 2 * n + 2);
-        // SAFETY: `c ≤ 2n + 1` (the right-hand side or `1 +` a variable `< 2n + 1`), and
-        // `tab` has `2n + 2` columns of `ld` entries.
-        let column = unsafe { tab.get_unchecked_mut(c * ld..(c + 1) * ld) };
+    // A slice argument: when the closure is not inlined (large n), its arguments do not
+    // alias, so the update needs no overlap checks.
+    let update = |column: &mut [f64]| {
+        let column = &mut column[..ld];
         let f = column[r] * inv;
         eliminate(column, f, col, hot);
     };
-    update(0);
-    for &v in &nonbasic[..slot] {
-        update(1 + v);
-    }
-    for &v in &nonbasic[slot + 1..] {
-        update(1 + v);
+    update(&mut tab[..ld]);
+    match load_z {
+        // First pivot (z0 enters, nonbasic = [z_1..z_n, w_r]): the columns of z, −M·m_inv,
+        // are computed from M and updated in one pass instead of loaded, then updated.
+        Some((m, m_inv)) => {
+            for (j, &v) in nonbasic[..slot].iter().enumerate() {
+                debug_assert_eq!(v, n + j);
+                let c = 1 + v;
+                let src = &m.col(j)[..n];
+                eliminate_loaded(
+                    &mut tab[c * ld..(c + 1) * ld],
+                    -m_inv,
+                    src,
+                    r,
+                    inv,
+                    col,
+                    hot,
+                );
+            }
+        }
+        None => {
+            for &v in &nonbasic[..slot] {
+                update(column_mut(tab, ld, 1 + v));
+            }
+            for &v in &nonbasic[slot + 1..] {
+                update(column_mut(tab, ld, 1 + v));
+            }
+        }
     }
     let c = 1 + leaving;
     eliminate_unit(&mut tab[c * ld..(c + 1) * ld], inv, col, hot);
