@@ -84,17 +84,18 @@ fn marked(h: f64) -> bool {
 /// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
 /// row mask, see [`set_hot`]) is marked, all in whole-group vector stores. (A scalar store
 /// into a column that the next pivot reads back with vector loads stalls store-to-load
-/// forwarding.)
+/// forwarding.) Takes `yn = −y` and adds `f·yn`, which is exactly `x − f·y` and compiles
+/// to one add per vector.
 #[inline(always)]
-fn eliminate(x: &mut [f64], f: f64, y: &[f64], hot: &[f64]) {
+fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64]) {
     for ((xc, yc), hc) in x
         .chunks_exact_mut(4)
-        .zip(y.chunks_exact(4))
+        .zip(yn.chunks_exact(4))
         .zip(hot.chunks_exact(4))
     {
         let mut v = [0.0; 4];
         for k in 0..4 {
-            let e = xc[k] - f * yc[k];
+            let e = xc[k] + f * yc[k];
             v[k] = if marked(hc[k]) { f } else { e };
         }
         xc.copy_from_slice(&v);
@@ -104,15 +105,15 @@ fn eliminate(x: &mut [f64], f: f64, y: &[f64], hot: &[f64]) {
 /// The pivot update of a column that was the unit vector `e_r` (see [`eliminate`] with
 /// `x = e_r`, `f = inv`), written without reading `x`.
 #[inline(always)]
-fn eliminate_unit(x: &mut [f64], inv: f64, y: &[f64], hot: &[f64]) {
+fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: &[f64]) {
     for ((xc, yc), hc) in x
         .chunks_exact_mut(4)
-        .zip(y.chunks_exact(4))
+        .zip(yn.chunks_exact(4))
         .zip(hot.chunks_exact(4))
     {
         let mut v = [0.0; 4];
         for k in 0..4 {
-            let e = 0.0 - inv * yc[k];
+            let e = 0.0 + inv * yc[k];
             v[k] = if marked(hc[k]) { inv } else { e };
         }
         xc.copy_from_slice(&v);
@@ -139,23 +140,31 @@ fn eliminate_loaded(
     src: &[f64],
     r: usize,
     inv: f64,
-    y: &[f64],
+    yn: &[f64],
     hot: &[f64],
 ) {
     let f = (s * src[r]) * inv;
     for (g, ((xc, yc), hc)) in x
         .chunks_exact_mut(4)
-        .zip(y.chunks_exact(4))
+        .zip(yn.chunks_exact(4))
         .zip(hot.chunks_exact(4))
         .enumerate()
     {
         let xs = map_group(src, g, |_, v| s * v);
         let mut v = [0.0; 4];
         for k in 0..4 {
-            let e = xs[k] - f * yc[k];
+            let e = xs[k] + f * yc[k];
             v[k] = if marked(hc[k]) { f } else { e };
         }
         xc.copy_from_slice(&v);
+    }
+}
+
+/// `x ← −y` in whole-group vector stores (see [`eliminate`]).
+#[inline(always)]
+fn negate_into(x: &mut [f64], y: &[f64]) {
+    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
+        xc.copy_from_slice(&[-yc[0], -yc[1], -yc[2], -yc[3]]);
     }
 }
 
@@ -468,7 +477,7 @@ fn pivot_loop_slices(
     ) else {
         return (Ending::Breakdown, 0);
     };
-    set_padded(col, -1.0, cover);
+    set_padded(col, 1.0, cover); // −(−d)
     let load_z = Some((m, m_inv));
     pivot(
         hot, n, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0, load_z,
@@ -519,7 +528,7 @@ fn pivot_loop_slices(
             return (Ending::Ray, pivots);
         };
         let p = entering_col[r];
-        col.copy_from_slice(entering_col);
+        negate_into(col, entering_col);
         leaving = basis[r];
         pivot(
             hot, n, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering, None,
@@ -604,15 +613,22 @@ fn lex_min_ratio(
     if prefer < n && col[prefer] > tol && rhs_at(rhs[prefer]) * den <= cut * col[prefer] {
         return Some(prefer);
     }
+    let ties_at = |r: f64, c: f64| (c > tol) & (rhs_at(r) * den <= cut * c);
+    // Count first, without branches (`best` itself always counts); collect only on a tie.
+    let count: usize = rhs
+        .iter()
+        .zip(col)
+        .map(|(&r, &c)| ties_at(r, c) as usize)
+        .sum();
+    if count <= 1 {
+        return Some(best);
+    }
     let mut count = 0;
     for (i, (&r, &c)) in rhs.iter().zip(col).enumerate() {
-        if c > tol && rhs_at(r) * den <= cut * c {
+        if ties_at(r, c) {
             ties[count] = i;
             count += 1;
         }
-    }
-    if count <= 1 {
-        return Some(best);
     }
     Some(break_ties(
         n,
@@ -673,7 +689,7 @@ fn break_ties(
     ties[0]
 }
 
-/// Pivots on row `r` with `entering` (its column copied in `col`, `p = col[r]`): the row's
+/// Pivots on row `r` with `entering` (its column negated in `col`, `p = −col[r]`): the row's
 /// basic variable leaves. Updates the right-hand side and the non-basic columns; the
 /// leaving variable's column, the unit vector `e_r` it stood for (not stored), is written
 /// directly; the entering column becomes implicit (basic).
