@@ -613,22 +613,15 @@ fn lex_min_ratio(
     if prefer < n && col[prefer] > tol && rhs_at(rhs[prefer]) * den <= cut * col[prefer] {
         return Some(prefer);
     }
-    let ties_at = |r: f64, c: f64| (c > tol) & (rhs_at(r) * den <= cut * c);
-    // Count first, without branches (`best` itself always counts); collect only on a tie.
-    let count: usize = rhs
-        .iter()
-        .zip(col)
-        .map(|(&r, &c)| ties_at(r, c) as usize)
-        .sum();
-    if count <= 1 {
-        return Some(best);
-    }
     let mut count = 0;
     for (i, (&r, &c)) in rhs.iter().zip(col).enumerate() {
-        if ties_at(r, c) {
+        if c > tol && rhs_at(r) * den <= cut * c {
             ties[count] = i;
             count += 1;
         }
+    }
+    if count <= 1 {
+        return Some(best);
     }
     Some(break_ties(
         n,
