@@ -85,39 +85,42 @@ fn marked(h: f64) -> bool {
 /// row mask, see [`set_hot`]) is marked, all in whole-group vector stores. (A scalar store
 /// into a column that the next pivot reads back with vector loads stalls store-to-load
 /// forwarding.) Takes `yn = −y` and adds `f·yn`, which is exactly `x − f·y` and compiles
-/// to one add per vector.
+/// to one add per vector. The old values of group `g` are `old(g, stored group)`.
 #[inline(always)]
-fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64]) {
-    for ((xc, yc), hc) in x
+fn update_column(
+    x: &mut [f64],
+    f: f64,
+    yn: &[f64],
+    hot: &[f64],
+    old: impl Fn(usize, &[f64]) -> [f64; 4],
+) {
+    for (g, ((xc, yc), hc)) in x
         .chunks_exact_mut(4)
         .zip(yn.chunks_exact(4))
         .zip(hot.chunks_exact(4))
+        .enumerate()
     {
+        let xo = old(g, xc);
         let mut v = [0.0; 4];
         for k in 0..4 {
-            let e = xc[k] + f * yc[k];
+            let e = xo[k] + f * yc[k];
             v[k] = if marked(hc[k]) { f } else { e };
         }
         xc.copy_from_slice(&v);
     }
 }
 
-/// The pivot update of a column that was the unit vector `e_r` (see [`eliminate`] with
-/// `x = e_r`, `f = inv`), written without reading `x`.
+/// [`update_column`] of the stored column `x`, with `f = x_r / p`.
+#[inline(always)]
+fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64]) {
+    update_column(x, f, yn, hot, |_, xc| [xc[0], xc[1], xc[2], xc[3]]);
+}
+
+/// [`update_column`] of a column that was the unit vector `e_r` (not stored), so
+/// `f = 1/p`: written without reading `x`.
 #[inline(always)]
 fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: &[f64]) {
-    for ((xc, yc), hc) in x
-        .chunks_exact_mut(4)
-        .zip(yn.chunks_exact(4))
-        .zip(hot.chunks_exact(4))
-    {
-        let mut v = [0.0; 4];
-        for k in 0..4 {
-            let e = 0.0 + inv * yc[k];
-            v[k] = if marked(hc[k]) { inv } else { e };
-        }
-        xc.copy_from_slice(&v);
-    }
+    update_column(x, inv, yn, hot, |_, _| [0.0; 4]);
 }
 
 /// Column `c` (of `ld` entries) of the tableau `tab` (`2n + 2` columns); `c` is the
@@ -130,7 +133,7 @@ fn column_mut(tab: &mut [f64], ld: usize, c: usize) -> &mut [f64] {
     unsafe { tab.get_unchecked_mut(c * ld..(c + 1) * ld) }
 }
 
-/// [`eliminate`] of the column `x = s·src` (zero padded) as if it had been stored first:
+/// [`update_column`] of the column `s·src` (zero padded) as if it had been stored first:
 /// bit-identical, without the round trip through memory.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
@@ -144,20 +147,7 @@ fn eliminate_loaded(
     hot: &[f64],
 ) {
     let f = (s * src[r]) * inv;
-    for (g, ((xc, yc), hc)) in x
-        .chunks_exact_mut(4)
-        .zip(yn.chunks_exact(4))
-        .zip(hot.chunks_exact(4))
-        .enumerate()
-    {
-        let xs = map_group(src, g, |_, v| s * v);
-        let mut v = [0.0; 4];
-        for k in 0..4 {
-            let e = xs[k] + f * yc[k];
-            v[k] = if marked(hc[k]) { f } else { e };
-        }
-        xc.copy_from_slice(&v);
-    }
+    update_column(x, f, yn, hot, |g, _| map_group(src, g, |_, v| s * v));
 }
 
 /// `x ← −y` in whole-group vector stores (see [`eliminate`]).
@@ -463,18 +453,13 @@ fn pivot_loop_slices(
     }
 
     // z0 enters; the row lexicographically minimising (q_i, e_i)/d_i leaves.
-    let Some(r) = lex_min_ratio(
-        n,
+    let lex = Lex {
         ld,
         tab,
         basis,
         nb_pos,
-        cover,
-        0.0,
-        false,
-        usize::MAX,
-        ties,
-    ) else {
+    };
+    let Some(r) = lex_min_ratio(n, lex, cover, 0.0, false, usize::MAX, ties) else {
         return (Ending::Breakdown, 0);
     };
     set_padded(col, 1.0, cover); // −(−d)
@@ -512,18 +497,13 @@ fn pivot_loop_slices(
         }
         let col_max = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
         let tol = PIV_TOL * col_max;
-        let ratio = lex_min_ratio(
-            n,
+        let lex = Lex {
             ld,
             tab,
             basis,
             nb_pos,
-            entering_col,
-            tol,
-            true,
-            z0_row,
-            ties,
-        );
+        };
+        let ratio = lex_min_ratio(n, lex, entering_col, tol, true, z0_row, ties);
         let Some(r) = ratio else {
             return (Ending::Ray, pivots);
         };
@@ -570,6 +550,16 @@ pub(crate) fn extract(
     sum.is_finite()
 }
 
+/// What the lexicographic ratio test reads: the tableau (column stride `ld`; the
+/// right-hand side and `B⁻¹`) and the basis.
+#[derive(Clone, Copy)]
+struct Lex<'a> {
+    ld: usize,
+    tab: &'a [f64],
+    basis: &'a [usize],
+    nb_pos: &'a [usize],
+}
+
 /// Lexicographic minimum-ratio test: among rows with `col_i > tol`, the row minimising
 /// `(rhs_i, B⁻¹_{i·}) / col_i` lexicographically. `prefer` (z0's row) wins a tie of the
 /// first component, which ends the run. `clamp` reads round-off negative right-hand sides
@@ -578,17 +568,14 @@ pub(crate) fn extract(
 #[inline(always)]
 fn lex_min_ratio(
     n: usize,
-    ld: usize,
-    tab: &[f64],
-    basis: &[usize],
-    nb_pos: &[usize],
+    lex: Lex<'_>,
     col: &[f64],
     tol: f64,
     clamp: bool,
     prefer: usize,
     ties: &mut [usize],
 ) -> Option<usize> {
-    let rhs = &tab[..n];
+    let rhs = &lex.tab[..n];
     let col = &col[..n];
     let rhs_at = |r: f64| if clamp && r <= 0.0 { 0.0 } else { r };
     // Minimum ratio num/den by cross-multiplication (no division per row); (1, 0) is +∞,
@@ -623,15 +610,7 @@ fn lex_min_ratio(
     if count <= 1 {
         return Some(best);
     }
-    Some(break_ties(
-        n,
-        ld,
-        tab,
-        basis,
-        nb_pos,
-        col,
-        &mut ties[..count],
-    ))
+    Some(break_ties(n, lex, col, &mut ties[..count]))
 }
 
 /// Lexicographic tie-break on the rows of `B⁻¹` (the w-columns), column by column; the
@@ -639,15 +618,13 @@ fn lex_min_ratio(
 /// basic `w_k` is the unit vector of its row (not stored).
 #[cold]
 #[inline(never)]
-fn break_ties(
-    n: usize,
-    ld: usize,
-    tab: &[f64],
-    basis: &[usize],
-    nb_pos: &[usize],
-    col: &[f64],
-    ties: &mut [usize],
-) -> usize {
+fn break_ties(n: usize, lex: Lex<'_>, col: &[f64], ties: &mut [usize]) -> usize {
+    let Lex {
+        ld,
+        tab,
+        basis,
+        nb_pos,
+    } = lex;
     let mut count = ties.len();
     for k in 0..n {
         if nb_pos[k] == usize::MAX {
