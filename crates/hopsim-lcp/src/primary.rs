@@ -66,12 +66,13 @@ pub(crate) fn primary(
         // SAFETY: the CPU supports AVX2, the only requirement of `primary_avx2`.
         return unsafe { primary_avx2(work, m, q, z, w, settings, out) };
     }
-    primary_portable(work, m, q, z, w, settings, out)
+    // SAFETY: the portable copies need no CPU feature.
+    unsafe { primary_portable(work, m, q, z, w, settings, out) }
 }
 
-/// Calls `$f::<N>` for `n = N ≤ MAX_FIXED`, else `$dynamic`.
+/// Calls `$f::<N>` for `n = N ≤ MAX_FIXED`, else `$f::<0>` (any `n`).
 macro_rules! by_size {
-    ($n:expr, $f:ident, $dynamic:expr, ($($arg:expr),*)) => {{
+    ($n:expr, $f:ident, ($($arg:expr),*)) => {{
         const _: () = assert!(MAX_FIXED == 12);
         match $n {
             1 => $f::<1>($($arg),*),
@@ -86,19 +87,23 @@ macro_rules! by_size {
             10 => $f::<10>($($arg),*),
             11 => $f::<11>($($arg),*),
             12 => $f::<12>($($arg),*),
-            _ => $dynamic,
+            _ => $f::<0>($($arg),*),
         }
     }};
 }
 
-/// Defines the hot path's entry `$entry` (dispatching on `n`) and its per-size copies
-/// `$fixed::<N>`, all compiled with the attributes `$attr` (e.g. a target feature): one
-/// body for every instruction set.
+/// Defines the hot path's entry `$entry`, which dispatches on `n` (inlined into its caller,
+/// so a solve makes one call), and the copies `$fixed::<N>`: one per small `N` with fixed
+/// loop bounds, `$fixed::<0>` for any `n`, all compiled with the attributes `$feature`
+/// (e.g. a target feature): one body for every instruction set.
 macro_rules! hot_path {
-    ($(#[$attr:meta])* $entry:ident, $fixed:ident) => {
-        $(#[$attr])*
-        #[allow(clippy::too_many_arguments)]
-        fn $entry(
+    ([$(#[$cfg:meta])*] [$(#[$feature:meta])*] $entry:ident, $fixed:ident) => {
+        /// # Safety
+        /// The CPU supports the target features of `$fixed`, if any.
+        $(#[$cfg])*
+        #[allow(clippy::too_many_arguments, unused_unsafe)]
+        #[inline(always)]
+        unsafe fn $entry(
             work: &mut Work,
             m: MatRef<'_>,
             q: &[f64],
@@ -107,16 +112,12 @@ macro_rules! hot_path {
             s: &Settings,
             out: &mut Primary,
         ) -> Result<(), LcpInputError> {
-            let n = q.len();
-            by_size!(
-                n,
-                $fixed,
-                core(n, work, m, q, z, w, s, out),
-                (work, m, q, z, w, s, out)
-            )
+            // SAFETY: the caller guarantees the target features of `$fixed`.
+            unsafe { by_size!(q.len(), $fixed, (work, m, q, z, w, s, out)) }
         }
 
-        $(#[$attr])*
+        $(#[$cfg])*
+        $(#[$feature])*
         #[allow(clippy::too_many_arguments)]
         #[inline(never)]
         fn $fixed<const N: usize>(
@@ -128,16 +129,19 @@ macro_rules! hot_path {
             s: &Settings,
             out: &mut Primary,
         ) -> Result<(), LcpInputError> {
-            core(N, work, m, q, z, w, s, out)
+            let n = if N == 0 { q.len() } else { N };
+            core(n, work, m, q, z, w, s, out)
         }
     };
 }
 
-hot_path!(primary_portable, fixed_portable);
+hot_path!([] [] primary_portable, fixed_portable);
 hot_path!(
-    #[cfg(target_arch = "x86_64")]
-    #[cfg_attr(feature = "portable", allow(dead_code))]
-    #[target_feature(enable = "avx2")]
+    [
+        #[cfg(target_arch = "x86_64")]
+        #[cfg_attr(feature = "portable", allow(dead_code))]
+    ]
+    [#[target_feature(enable = "avx2")]]
     primary_avx2,
     fixed_avx2
 );
@@ -277,10 +281,14 @@ mod tests {
                         unsafe {
                             primary_avx2(wk, mc, qv, zs, ws, st, out)
                         }
+                        // SAFETY: the portable copies need no CPU feature.
                         #[cfg(not(target_arch = "x86_64"))]
-                        primary_portable(wk, mc, qv, zs, ws, st, out)
+                        unsafe {
+                            primary_portable(wk, mc, qv, zs, ws, st, out)
+                        }
                     } else {
-                        primary_portable(wk, mc, qv, zs, ws, st, out)
+                        // SAFETY: the portable copies need no CPU feature.
+                        unsafe { primary_portable(wk, mc, qv, zs, ws, st, out) }
                     }
                     .unwrap();
                     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
