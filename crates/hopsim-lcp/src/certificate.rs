@@ -1,7 +1,8 @@
 //! The a-posteriori certificate of an LCP answer, computed from the original `M`, `q`.
 
 use crate::tableau::{leading_dim, set_padded, sub_scaled_padded};
-use nalgebra::{DMatrixView, RawStorage};
+use nalgebra::DMatrixView;
+use std::marker::PhantomData;
 
 /// How well `(z, w)` satisfies `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`.
 ///
@@ -30,34 +31,37 @@ impl Certificate {
     }
 }
 
-/// `M` read in place from the caller's matrix: column `j` is `data[j·stride..][..n]`.
+/// `M` read in place from the caller's matrix: column `j` is the `n` entries from
+/// `ptr + j·stride` (the matrix is a view with row stride 1).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct MatRef<'a> {
-    data: &'a [f64],
+    ptr: *const f64,
     stride: usize,
     n: usize,
+    data: PhantomData<&'a f64>,
 }
 
 impl<'a> MatRef<'a> {
-    /// The square view `m` (row stride 1, any column stride), without copying.
-    pub fn new(m: &'a DMatrixView<'_, f64>) -> Self {
-        debug_assert_eq!(m.nrows(), m.ncols());
-        // SAFETY: only shared views of the data exist while `data` lives, so the span from
-        // the first to the last element of `m` (which includes the rows between the
-        // columns of a view into a larger matrix) is only read.
-        let data = unsafe { m.data.as_slice_unchecked() };
+    /// The square view `m`, without copying.
+    pub fn new(m: &DMatrixView<'a, f64>) -> Self {
+        assert_eq!(m.nrows(), m.ncols());
         MatRef {
-            data,
+            ptr: m.as_ptr(),
             stride: m.strides().1,
             n: m.nrows(),
+            data: PhantomData,
         }
     }
 
     /// Column `j` (`n` entries).
     #[inline(always)]
     pub fn col(&self, j: usize) -> &'a [f64] {
-        let start = j * self.stride;
-        &self.data[start..start + self.n]
+        assert!(j < self.n);
+        // SAFETY: `m` is an `n × n` view with row stride 1 and column stride `stride` of data
+        // borrowed (shared) for `'a`, so its column `j < n` is `n` contiguous entries from
+        // `ptr + j·stride`. Only the view's own entries are covered (not the rows of a
+        // parent matrix between its columns, which another view may borrow mutably).
+        unsafe { std::slice::from_raw_parts(self.ptr.add(j * self.stride), self.n) }
     }
 }
 
