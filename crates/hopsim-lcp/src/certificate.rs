@@ -1,5 +1,9 @@
 //! The a-posteriori certificate of an LCP answer, computed from the original `M`, `q`.
 
+use crate::tableau::{leading_dim, set_padded, sub_scaled_padded};
+use nalgebra::DMatrixView;
+use std::marker::PhantomData;
+
 /// How well `(z, w)` satisfies `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`.
 ///
 /// All three measures are in the units of `w`, with `z` entering as `‖M‖_∞ z` (the change
@@ -27,11 +31,44 @@ impl Certificate {
     }
 }
 
+/// `M` read in place from the caller's matrix: column `j` is the `n` entries from
+/// `ptr + j·stride` (the matrix is a view with row stride 1).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MatRef<'a> {
+    ptr: *const f64,
+    stride: usize,
+    n: usize,
+    data: PhantomData<&'a f64>,
+}
+
+impl<'a> MatRef<'a> {
+    /// The square view `m`, without copying.
+    pub fn new(m: &DMatrixView<'a, f64>) -> Self {
+        assert_eq!(m.nrows(), m.ncols());
+        MatRef {
+            ptr: m.as_ptr(),
+            stride: m.strides().1,
+            n: m.nrows(),
+            data: PhantomData,
+        }
+    }
+
+    /// Column `j` (`n` entries).
+    #[inline(always)]
+    pub fn col(&self, j: usize) -> &'a [f64] {
+        assert!(j < self.n);
+        // SAFETY: `m` is an `n × n` view with row stride 1 and column stride `stride` of data
+        // borrowed (shared) for `'a`, so its column `j < n` is `n` contiguous entries from
+        // `ptr + j·stride`. Only the view's own entries are covered (not the rows of a
+        // parent matrix between its columns, which another view may borrow mutably).
+        unsafe { std::slice::from_raw_parts(self.ptr.add(j * self.stride), self.n) }
+    }
+}
+
 /// The original problem with the norms its certificates are scaled by.
 pub(crate) struct ProblemRef<'a> {
-    /// `M`, an exact column-major copy with column stride `ld` (zero padding rows).
-    pub m: &'a [f64],
-    pub ld: usize,
+    /// `M`, the caller's data.
+    pub m: MatRef<'a>,
     pub q: &'a [f64],
     /// `‖M‖_∞` (maximum absolute row sum).
     pub m_norm: f64,
@@ -44,22 +81,22 @@ impl ProblemRef<'_> {
     /// `M_ij`.
     #[inline(always)]
     pub fn m(&self, i: usize, j: usize) -> f64 {
-        self.m[j * self.ld + i]
+        self.m.col(j)[i]
     }
 
-    /// Certificate of `(z, w)`; `mz` is scratch of length `ld`. Allocates nothing.
+    /// Certificate of `(z, w)`; `mz` is scratch of length `leading_dim(n)`. Allocates
+    /// nothing.
     #[inline(always)]
     pub fn certify(&self, z: &[f64], w: &[f64], mz: &mut [f64]) -> Certificate {
         let n = self.q.len();
-        let ld = self.ld;
-        let (z, w, mz) = (&z[..n], &w[..n], &mut mz[..ld]);
-        crate::tableau::set_padded(mz, 1.0, self.q);
+        let (z, w, mz) = (&z[..n], &w[..n], &mut mz[..leading_dim(n)]);
+        set_padded(mz, 1.0, self.q);
         let mut z_norm: f64 = 0.0;
         for (j, &zj) in z.iter().enumerate() {
             let a = zj.abs();
             z_norm = if a > z_norm { a } else { z_norm };
             if zj != 0.0 {
-                crate::tableau::sub_scaled(mz, -zj, &self.m[j * ld..(j + 1) * ld]);
+                sub_scaled_padded(mz, -zj, &self.m.col(j)[..n]);
             }
         }
         let mut complementarity: f64 = 0.0;

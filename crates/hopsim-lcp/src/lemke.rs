@@ -6,10 +6,10 @@
 //! `M` and `q` are scaled internally by powers of two (exact), so the pivoting tolerances
 //! are relative to the problem; the certificate is always computed on the original data.
 
-use crate::certificate::ProblemRef;
+use crate::certificate::{MatRef, ProblemRef};
 use crate::enumerate::{self, BasisScratch};
 use crate::primary::{self, End, Primary, Settings};
-use crate::tableau::{self, Aligned, Ending, Scales, Work};
+use crate::tableau::{self, Ending, Scales, Work};
 use crate::{Certificate, LcpInputError, LcpProblem, LcpSolution, LcpStatus, SolveMethod};
 use nalgebra::{DMatrix, DMatrixView, DVector, DVectorView};
 
@@ -61,8 +61,10 @@ pub struct LemkeSolver {
     work: Work,
     /// Outcome of the hot path of the last solve.
     prim: Primary,
-    /// Exact copy of `M`, column-major with stride `leading_dim(n)`.
-    m_copy: Aligned,
+    /// The size `n` for which `work.cover` holds the configured covering vector, checked
+    /// (`usize::MAX`: none): it is checked and written once per size or options change,
+    /// not per solve.
+    cover_n: usize,
     zs: Vec<f64>,
     ws: Vec<f64>,
     lu: Vec<f64>,
@@ -84,7 +86,7 @@ impl LemkeSolver {
             cap: 0,
             work: Work::default(),
             prim: Primary::default(),
-            m_copy: Aligned::default(),
+            cover_n: usize::MAX,
             zs: Vec::new(),
             ws: Vec::new(),
             lu: Vec::new(),
@@ -100,6 +102,7 @@ impl LemkeSolver {
 
     pub fn set_options(&mut self, options: LemkeOptions) {
         self.options = options;
+        self.cover_n = usize::MAX;
     }
 
     /// The result of the last call of [`LemkeSolver::solve`] that did not return an error.
@@ -119,7 +122,6 @@ impl LemkeSolver {
     #[inline(never)]
     fn grow(&mut self, n: usize) {
         self.work.reserve(n);
-        self.m_copy.reserve(tableau::leading_dim(n) * n);
         self.zs.resize(n, 0.0);
         self.ws.resize(n, 0.0);
         self.lu.resize(n * n, 0.0);
@@ -131,6 +133,7 @@ impl LemkeSolver {
             *v = DVector::from_vec(data);
         }
         self.cap = n;
+        self.cover_n = usize::MAX;
     }
 
     /// Solves `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` (the contact LCP of docs/physics.md §4 is
@@ -154,6 +157,49 @@ impl LemkeSolver {
         if q.len() != n {
             return Err(LcpInputError::SizeMismatch { n, q_len: q.len() });
         }
+        if self.cover_n != n {
+            self.load_cover(n)?;
+        }
+        if n == 0 {
+            set_len(&mut self.sol.z, 0);
+            set_len(&mut self.sol.w, 0);
+            let sol = &mut self.sol;
+            (sol.status, sol.method, sol.pivots) = (LcpStatus::Solved, SolveMethod::Trivial, 0);
+            sol.certificate = Certificate::default();
+            return Ok(&self.sol);
+        }
+        set_len(&mut self.sol.z, n);
+        set_len(&mut self.sol.w, n);
+        let q = q.as_slice();
+        let settings = Settings {
+            rel_tol: self.options.rel_tol,
+            max_pivots: self.max_pivots(n),
+        };
+        let z = self.sol.z.as_mut_slice();
+        let w = self.sol.w.as_mut_slice();
+        let m = MatRef::new(&m);
+        let prim = &mut self.prim;
+        primary::primary(&mut self.work, m, q, z, w, &settings, prim)?;
+        let sol = &mut self.sol;
+        sol.pivots = prim.pivots;
+        sol.certificate = prim.certificate;
+        sol.status = LcpStatus::Solved;
+        match prim.end {
+            End::Trivial => sol.method = SolveMethod::Trivial,
+            End::Solved => sol.method = SolveMethod::Lemke,
+            End::Failed(ending) => {
+                let prim = self.prim;
+                self.recover(m, q, &prim, ending);
+            }
+        }
+        Ok(&self.sol)
+    }
+
+    /// Checks the configured covering vector for size `n` and writes it into `work.cover`
+    /// (growing the buffers to `n`).
+    #[cold]
+    #[inline(never)]
+    fn load_cover(&mut self, n: usize) -> Result<(), LcpInputError> {
         if let Some(d) = &self.options.covering {
             if d.len() != n {
                 return Err(LcpInputError::CoveringLength { n, len: d.len() });
@@ -166,47 +212,16 @@ impl LemkeSolver {
                 return Err(LcpInputError::CoveringNotPositive { index, value });
             }
         }
-        if n == 0 {
-            set_len(&mut self.sol.z, 0);
-            set_len(&mut self.sol.w, 0);
-            let sol = &mut self.sol;
-            (sol.status, sol.method, sol.pivots) = (LcpStatus::Solved, SolveMethod::Trivial, 0);
-            sol.certificate = Certificate::default();
-            return Ok(&self.sol);
-        }
-        self.reserve(n);
-        let cover = self.work.parts(n).cover;
-        match &self.options.covering {
-            Some(d) => cover.copy_from_slice(d),
-            None => cover.fill(1.0),
-        }
-        set_len(&mut self.sol.z, n);
-        set_len(&mut self.sol.w, n);
-        let q = q.as_slice();
-        let settings = Settings {
-            rel_tol: self.options.rel_tol,
-            max_pivots: self.max_pivots(n),
-        };
-        let z = self.sol.z.as_mut_slice();
-        let w = self.sol.w.as_mut_slice();
-        let m_copy = self.m_copy.as_mut_slice();
-        let prim = &mut self.prim;
-        primary::primary(&mut self.work, m_copy, &m, q, z, w, &settings, prim)?;
-        let sol = &mut self.sol;
-        sol.pivots = prim.pivots;
-        sol.certificate = prim.certificate;
-        sol.status = LcpStatus::Solved;
-        match prim.end {
-            End::Trivial => sol.method = SolveMethod::Trivial,
-            End::Solved => sol.method = SolveMethod::Lemke,
-            End::Failed(ending) => {
-                let m_copy = std::mem::take(&mut self.m_copy);
-                let prim = self.prim;
-                self.recover(m_copy.as_slice(), q, &prim, ending);
-                self.m_copy = m_copy;
+        if n > 0 {
+            self.reserve(n);
+            let cover = self.work.parts(n).cover;
+            match &self.options.covering {
+                Some(d) => cover.copy_from_slice(d),
+                None => cover.fill(1.0),
             }
         }
-        Ok(&self.sol)
+        self.cover_n = n;
+        Ok(())
     }
 
     /// Solves a parsed [`LcpProblem`] (see [`LemkeSolver::solve`]).
@@ -222,12 +237,10 @@ impl LemkeSolver {
     /// then (if enabled) other covering vectors and enumeration. Publishes the result.
     #[cold]
     #[inline(never)]
-    fn recover(&mut self, m_copy: &[f64], q: &[f64], prim: &Primary, ending: Ending) {
+    fn recover(&mut self, m: MatRef<'_>, q: &[f64], prim: &Primary, ending: Ending) {
         let n = q.len();
-        let ld = tableau::leading_dim(n);
         let p = &ProblemRef {
-            m: &m_copy[..ld * n],
-            ld,
+            m,
             q,
             m_norm: prim.m_norm,
             q_norm: prim.q_norm,
@@ -253,6 +266,8 @@ impl LemkeSolver {
         }
         let mut pivots = pivots;
         let user = self.options.covering.is_some();
+        // The alternates overwrite the configured covering vector.
+        self.cover_n = usize::MAX;
         for attempt in 0..ALTERNATE_COVERINGS {
             alternate_covering(self.work.parts(n).cover, p.q, attempt, user);
             let (ending, more) = self.run(p, scales);
@@ -323,8 +338,8 @@ impl LemkeSolver {
         let n = p.q.len();
         let max_pivots = self.max_pivots(n);
         let mut t = self.work.parts(n);
-        tableau::load(n, &mut t, p.m, p.q, scales.q_inv, p.m_norm);
-        tableau::pivot_loop(n, &mut t, max_pivots)
+        let m_inv = tableau::load(n, &mut t, p.q, scales.q_inv, p.m_norm);
+        tableau::pivot_loop(n, &mut t, p.m, m_inv, max_pivots)
     }
 
     /// Copies the basic values of the tableau into `zs`, `ws` (unscaled); zeros if any

@@ -4,12 +4,9 @@
 //! time). AVX2 only widens the vectors: no fused multiply-add, so every path gives
 //! bit-identical results.
 
-use crate::certificate::ProblemRef;
-use crate::tableau::{
-    self, inv_pow2_floor, leading_dim, pow2_floor, Ending, Scales, Work, MAX_FIXED,
-};
+use crate::certificate::{MatRef, ProblemRef};
+use crate::tableau::{self, inv_pow2_floor, pow2_floor, Ending, Scales, Work, MAX_FIXED};
 use crate::{Certificate, LcpInputError};
-use nalgebra::DMatrixView;
 
 /// How the hot path ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,13 +50,11 @@ pub(crate) struct Settings {
 }
 
 /// Runs the hot path for `(M, q)` with covering vector `work.cover`; writes `z`, `w`
-/// (length `n`) and the copy of `M` (length `ld·n`) the certificates use. Errors on a
-/// non-finite entry.
+/// (length `n`). `M` is read in place (no copy). Errors on a non-finite entry.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn primary(
     work: &mut Work,
-    m_copy: &mut [f64],
-    m: &DMatrixView<'_, f64>,
+    m: MatRef<'_>,
     q: &[f64],
     z: &mut [f64],
     w: &mut [f64],
@@ -69,14 +64,15 @@ pub(crate) fn primary(
     #[cfg(all(target_arch = "x86_64", not(feature = "portable")))]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2, the only requirement of `primary_avx2`.
-        return unsafe { primary_avx2(work, m_copy, m, q, z, w, settings, out) };
+        return unsafe { primary_avx2(work, m, q, z, w, settings, out) };
     }
-    primary_portable(work, m_copy, m, q, z, w, settings, out)
+    // SAFETY: the portable copies need no CPU feature.
+    unsafe { primary_portable(work, m, q, z, w, settings, out) }
 }
 
-/// Calls `$f::<N>` for `n = N ≤ MAX_FIXED`, else `$dynamic`.
+/// Calls `$f::<N>` for `n = N ≤ MAX_FIXED`, else `$f::<0>` (any `n`).
 macro_rules! by_size {
-    ($n:expr, $f:ident, $dynamic:expr, ($($arg:expr),*)) => {{
+    ($n:expr, $f:ident, ($($arg:expr),*)) => {{
         const _: () = assert!(MAX_FIXED == 12);
         match $n {
             1 => $f::<1>($($arg),*),
@@ -91,60 +87,61 @@ macro_rules! by_size {
             10 => $f::<10>($($arg),*),
             11 => $f::<11>($($arg),*),
             12 => $f::<12>($($arg),*),
-            _ => $dynamic,
+            _ => $f::<0>($($arg),*),
         }
     }};
 }
 
-/// Defines the hot path's entry `$entry` (dispatching on `n`) and its per-size copies
-/// `$fixed::<N>`, all compiled with the attributes `$attr` (e.g. a target feature): one
-/// body for every instruction set.
+/// Defines the hot path's entry `$entry`, which dispatches on `n` (inlined into its caller,
+/// so a solve makes one call), and the copies `$fixed::<N>`: one per small `N` with fixed
+/// loop bounds, `$fixed::<0>` for any `n`, all compiled with the attributes `$feature`
+/// (e.g. a target feature): one body for every instruction set.
 macro_rules! hot_path {
-    ($(#[$attr:meta])* $entry:ident, $fixed:ident) => {
-        $(#[$attr])*
-        #[allow(clippy::too_many_arguments)]
-        fn $entry(
+    ([$(#[$cfg:meta])*] [$(#[$feature:meta])*] $entry:ident, $fixed:ident) => {
+        /// # Safety
+        /// The CPU supports the target features of `$fixed`, if any.
+        $(#[$cfg])*
+        #[allow(clippy::too_many_arguments, unused_unsafe)]
+        #[inline(always)]
+        unsafe fn $entry(
             work: &mut Work,
-            m_copy: &mut [f64],
-            m: &DMatrixView<'_, f64>,
+            m: MatRef<'_>,
             q: &[f64],
             z: &mut [f64],
             w: &mut [f64],
             s: &Settings,
             out: &mut Primary,
         ) -> Result<(), LcpInputError> {
-            let n = q.len();
-            by_size!(
-                n,
-                $fixed,
-                core(n, work, m_copy, m, q, z, w, s, out),
-                (work, m_copy, m, q, z, w, s, out)
-            )
+            // SAFETY: the caller guarantees the target features of `$fixed`.
+            unsafe { by_size!(q.len(), $fixed, (work, m, q, z, w, s, out)) }
         }
 
-        $(#[$attr])*
+        $(#[$cfg])*
+        $(#[$feature])*
         #[allow(clippy::too_many_arguments)]
         #[inline(never)]
         fn $fixed<const N: usize>(
             work: &mut Work,
-            m_copy: &mut [f64],
-            m: &DMatrixView<'_, f64>,
+            m: MatRef<'_>,
             q: &[f64],
             z: &mut [f64],
             w: &mut [f64],
             s: &Settings,
             out: &mut Primary,
         ) -> Result<(), LcpInputError> {
-            core(N, work, m_copy, m, q, z, w, s, out)
+            let n = if N == 0 { q.len() } else { N };
+            core(n, work, m, q, z, w, s, out)
         }
     };
 }
 
-hot_path!(primary_portable, fixed_portable);
+hot_path!([] [] primary_portable, fixed_portable);
 hot_path!(
-    #[cfg(target_arch = "x86_64")]
-    #[cfg_attr(feature = "portable", allow(dead_code))]
-    #[target_feature(enable = "avx2")]
+    [
+        #[cfg(target_arch = "x86_64")]
+        #[cfg_attr(feature = "portable", allow(dead_code))]
+    ]
+    [#[target_feature(enable = "avx2")]]
     primary_avx2,
     fixed_avx2
 );
@@ -154,8 +151,7 @@ hot_path!(
 fn core(
     n: usize,
     work: &mut Work,
-    m_copy: &mut [f64],
-    m: &DMatrixView<'_, f64>,
+    m: MatRef<'_>,
     q: &[f64],
     z: &mut [f64],
     w: &mut [f64],
@@ -181,11 +177,9 @@ fn core(
     }
 
     let mut t = work.parts(n);
-    let ld = leading_dim(n);
-    let m_copy = &mut m_copy[..ld * n];
-    let mut m_norm = tableau::copy_matrix(n, m, m_copy, t.row_sum);
+    let mut m_norm = tableau::matrix_norm(n, m, t.row_sum);
     if !m_norm.is_finite() {
-        m_norm = nonfinite_entry(m)?;
+        m_norm = nonfinite_entry(n, m)?;
     }
     *out = Primary {
         m_norm,
@@ -197,9 +191,9 @@ fn core(
         w.copy_from_slice(q);
     } else {
         let q_inv = inv_pow2_floor(q_norm);
-        let m_inv = tableau::load(n, &mut t, m_copy, q, q_inv, m_norm);
+        let m_inv = tableau::load(n, &mut t, q, q_inv, m_norm);
         out.scales = Scales::new(q_inv, m_inv, pow2_floor(q_norm));
-        let (ending, pivots) = tableau::pivot_loop(n, &mut t, s.max_pivots);
+        let (ending, pivots) = tableau::pivot_loop(n, &mut t, m, m_inv, s.max_pivots);
         out.end = End::Failed(ending);
         out.pivots = pivots;
         if ending != Ending::Complementary || !tableau::extract(n, &t, &out.scales, z, w) {
@@ -207,8 +201,7 @@ fn core(
         }
     }
     let p = ProblemRef {
-        m: m_copy,
-        ld,
+        m,
         q,
         m_norm,
         q_norm,
@@ -225,11 +218,10 @@ fn core(
 /// error, or `f64::MAX` if all entries are finite (the row sums overflowed).
 #[cold]
 #[inline(never)]
-fn nonfinite_entry(m: &DMatrixView<'_, f64>) -> Result<f64, LcpInputError> {
-    let n = m.nrows();
+fn nonfinite_entry(n: usize, m: MatRef<'_>) -> Result<f64, LcpInputError> {
     for i in 0..n {
         for j in 0..n {
-            if !m[(i, j)].is_finite() {
+            if !m.col(j)[i].is_finite() {
                 return Err(LcpInputError::NonFinite {
                     what: "M",
                     index: i * n + j,
@@ -273,28 +265,30 @@ mod tests {
                     a
                 };
                 let q = DVector::from_fn(n, |_, _| uniform());
-                let ld = leading_dim(n);
                 let mut results = Vec::new();
                 for simd in [false, true] {
                     let mut work = Work::default();
                     work.reserve(n);
                     work.parts(n).cover.fill(1.0);
-                    let mut m_copy = vec![0.0; ld * n];
                     let (mut z, mut w) = (vec![0.0; n], vec![0.0; n]);
                     let (mv, qv) = (m.as_view(), q.as_slice());
                     let mut prim = Primary::default();
                     let (zs, ws, out) = (&mut z, &mut w, &mut prim);
-                    let (mc, wk, st) = (&mut m_copy, &mut work, &settings);
+                    let (mc, wk, st) = (MatRef::new(&mv), &mut work, &settings);
                     if simd {
                         // SAFETY: AVX2 support was checked above.
                         #[cfg(target_arch = "x86_64")]
                         unsafe {
-                            primary_avx2(wk, mc, &mv, qv, zs, ws, st, out)
+                            primary_avx2(wk, mc, qv, zs, ws, st, out)
                         }
+                        // SAFETY: the portable copies need no CPU feature.
                         #[cfg(not(target_arch = "x86_64"))]
-                        primary_portable(wk, mc, &mv, qv, zs, ws, st, out)
+                        unsafe {
+                            primary_portable(wk, mc, qv, zs, ws, st, out)
+                        }
                     } else {
-                        primary_portable(wk, mc, &mv, qv, zs, ws, st, out)
+                        // SAFETY: the portable copies need no CPU feature.
+                        unsafe { primary_portable(wk, mc, qv, zs, ws, st, out) }
                     }
                     .unwrap();
                     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

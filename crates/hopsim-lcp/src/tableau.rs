@@ -6,10 +6,13 @@
 //! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors. The `w`
 //! block is `B⁻¹` at every step, which is what the lexicographic test compares. A pivot
 //! updates only the right-hand side and the `n + 1` non-basic columns (kept in a list).
+//! The column of a basic variable is the unit vector of its row and is not stored: the
+//! buffer holds stale values there, the lexicographic tie-break reads the basis instead,
+//! and a variable's unit column is written when it leaves the basis.
 //! Everything here is `#[inline(always)]` so that `primary.rs` can specialise it for each
 //! small `n` (fixed trip counts) and instruction set.
 
-use nalgebra::DMatrixView;
+use crate::certificate::MatRef;
 
 /// Entries of the entering column at most `PIV_TOL · max(1, max_i |col_i|)` cannot pivot.
 const PIV_TOL: f64 = 1e-12;
@@ -62,52 +65,102 @@ impl Scales {
     }
 }
 
-/// `x ← x − f·y` over whole groups of four (all of a group's loads come before its stores,
-/// so the compiler vectorises without having to prove that `x` and `y` do not overlap).
-/// Lengths are multiples of 4 (`leading_dim`); a shorter tail is left alone.
-#[inline(always)]
-pub(crate) fn sub_scaled(x: &mut [f64], f: f64, y: &[f64]) {
-    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
-        let v = [
-            xc[0] - f * yc[0],
-            xc[1] - f * yc[1],
-            xc[2] - f * yc[2],
-            xc[3] - f * yc[3],
-        ];
-        xc.copy_from_slice(&v);
-    }
-}
-
-/// Unit vectors of one group of four, as constants (loading one never waits on a store).
+/// One-hot row masks of one group of four, as constants (loading one never waits on a
+/// store): the marked lane is the one with the sign bit set.
 const ONE_HOT: [[f64; 4]; 4] = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-    [0.0, 0.0, 0.0, 1.0],
+    [-1.0, 0.0, 0.0, 0.0],
+    [0.0, -1.0, 0.0, 0.0],
+    [0.0, 0.0, -1.0, 0.0],
+    [0.0, 0.0, 0.0, -1.0],
 ];
 
-/// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
-/// row mask) is set, all in whole-group vector stores. (A scalar store into a column that
-/// the next pivot reads back with vector loads stalls store-to-load forwarding.)
+/// Whether `h` marks its row in a mask made by [`set_hot`]: a test of the sign bit alone,
+/// which a vector blend reads directly (no compare per column).
 #[inline(always)]
-fn eliminate(x: &mut [f64], f: f64, y: &[f64], hot: &[f64]) {
-    for ((xc, yc), hc) in x
+fn marked(h: f64) -> bool {
+    (h.to_bits() as i64) < 0
+}
+
+/// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
+/// row mask, see [`set_hot`]) is marked, all in whole-group vector stores. (A scalar store
+/// into a column that the next pivot reads back with vector loads stalls store-to-load
+/// forwarding.) Takes `yn = −y` and adds `f·yn`, which is exactly `x − f·y` and compiles
+/// to one add per vector. The old values of group `g` are `old(g, stored group)`.
+#[inline(always)]
+fn update_column(
+    x: &mut [f64],
+    f: f64,
+    yn: &[f64],
+    hot: &[f64],
+    old: impl Fn(usize, &[f64]) -> [f64; 4],
+) {
+    for (g, ((xc, yc), hc)) in x
         .chunks_exact_mut(4)
-        .zip(y.chunks_exact(4))
+        .zip(yn.chunks_exact(4))
         .zip(hot.chunks_exact(4))
+        .enumerate()
     {
+        let xo = old(g, xc);
         let mut v = [0.0; 4];
         for k in 0..4 {
-            let e = xc[k] - f * yc[k];
-            v[k] = if hc[k] != 0.0 { f } else { e };
+            let e = xo[k] + f * yc[k];
+            v[k] = if marked(hc[k]) { f } else { e };
         }
         xc.copy_from_slice(&v);
     }
 }
 
-/// `x ← e_r` in whole-group vector stores (see [`eliminate`]).
+/// [`update_column`] of the stored column `x`, with `f = x_r / p`.
 #[inline(always)]
-fn set_unit(x: &mut [f64], r: usize) {
+fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64]) {
+    update_column(x, f, yn, hot, |_, xc| [xc[0], xc[1], xc[2], xc[3]]);
+}
+
+/// [`update_column`] of a column that was the unit vector `e_r` (not stored), so
+/// `f = 1/p`: written without reading `x`.
+#[inline(always)]
+fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: &[f64]) {
+    update_column(x, inv, yn, hot, |_, _| [0.0; 4]);
+}
+
+/// Column `c` (of `ld` entries) of the tableau `tab` (`2n + 2` columns); `c` is the
+/// right-hand side or `1 +` a variable `< 2n + 1`, so always in range.
+#[inline(always)]
+fn column_mut(tab: &mut [f64], ld: usize, c: usize) -> &mut [f64] {
+    debug_assert!((c + 1) * ld <= tab.len());
+    // SAFETY: the callers pass `c ≤ 2n + 1` with `tab.len() = (2n + 2)·ld` (checked in
+    // debug builds above): no bounds check per column update.
+    unsafe { tab.get_unchecked_mut(c * ld..(c + 1) * ld) }
+}
+
+/// [`update_column`] of the column `s·src` (zero padded) as if it had been stored first:
+/// bit-identical, without the round trip through memory.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn eliminate_loaded(
+    x: &mut [f64],
+    s: f64,
+    src: &[f64],
+    r: usize,
+    inv: f64,
+    yn: &[f64],
+    hot: &[f64],
+) {
+    let f = (s * src[r]) * inv;
+    update_column(x, f, yn, hot, |g, _| map_group(src, g, |_, v| s * v));
+}
+
+/// `x ← −y` in whole-group vector stores (see [`eliminate`]).
+#[inline(always)]
+fn negate_into(x: &mut [f64], y: &[f64]) {
+    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
+        xc.copy_from_slice(&[-yc[0], -yc[1], -yc[2], -yc[3]]);
+    }
+}
+
+/// The one-hot mask of row `r` (see [`marked`]) in whole-group vector stores.
+#[inline(always)]
+fn set_hot(x: &mut [f64], r: usize) {
     let (gr, hot) = (r / 4, &ONE_HOT[r % 4]);
     for (g, xc) in x.chunks_exact_mut(4).enumerate() {
         xc.copy_from_slice(if g == gr { hot } else { &[0.0; 4] });
@@ -118,24 +171,43 @@ fn set_unit(x: &mut [f64], r: usize) {
 /// vector stores (see [`eliminate`]).
 #[inline(always)]
 pub(crate) fn set_padded(x: &mut [f64], f: f64, src: &[f64]) {
-    let n = src.len();
     for (g, xc) in x.chunks_exact_mut(4).enumerate() {
-        let mut v = [0.0; 4];
-        for (k, vk) in v.iter_mut().enumerate() {
-            let i = 4 * g + k;
-            *vk = if i < n { f * src[i] } else { 0.0 };
-        }
+        let v = map_group(src, g, |_, s| f * s);
         xc.copy_from_slice(&v);
     }
 }
 
-/// `x ← f·y` over whole groups of four (see [`sub_scaled`]).
+/// `x ← x − f·src` on the first `src.len()` entries and zero on the rest of `x`, in
+/// whole-group vector stores (see [`eliminate`]).
 #[inline(always)]
-fn set_scaled(x: &mut [f64], f: f64, y: &[f64]) {
-    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
-        let v = [f * yc[0], f * yc[1], f * yc[2], f * yc[3]];
+pub(crate) fn sub_scaled_padded(x: &mut [f64], f: f64, src: &[f64]) {
+    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
+        let v = map_group(src, g, |k, s| xc[k] - f * s);
         xc.copy_from_slice(&v);
     }
+}
+
+/// `[h(k, src[4g + k])]` for `k < 4`, zero past the end of `src`: whole groups without a
+/// test per entry (the padded tail of a dynamic size would pay one).
+#[inline(always)]
+fn map_group(src: &[f64], g: usize, mut h: impl FnMut(usize, f64) -> f64) -> [f64; 4] {
+    let i = 4 * g;
+    let mut v = [0.0; 4];
+    if i + 4 <= src.len() {
+        let s = &src[i..i + 4];
+        for k in 0..4 {
+            v[k] = h(k, s[k]);
+        }
+    } else {
+        for (k, vk) in v.iter_mut().enumerate() {
+            *vk = if i + k < src.len() {
+                h(k, src[i + k])
+            } else {
+                0.0
+            };
+        }
+    }
+    v
 }
 
 /// `1 / pow2_floor(x)`, exactly, without a division.
@@ -209,8 +281,9 @@ pub(crate) struct Work {
     nb_pos: Vec<usize>,
     /// `ld`: copy of the entering column.
     col: Vec<f64>,
-    /// `ld`, `n`: ratio-test scratch.
-    theta: Vec<f64>,
+    /// `ld`: the pivot row's one-hot mask (large `n`).
+    hot: Vec<f64>,
+    /// `n`: ratio-test scratch.
     ties: Vec<usize>,
     /// `n`: the covering vector of the next run.
     cover: Vec<f64>,
@@ -229,7 +302,7 @@ pub(crate) struct Parts<'a> {
     pub nonbasic: &'a mut [usize],
     pub nb_pos: &'a mut [usize],
     pub col: &'a mut [f64],
-    pub theta: &'a mut [f64],
+    pub hot: &'a mut [f64],
     pub ties: &'a mut [usize],
     pub cover: &'a mut [f64],
     pub row_sum: &'a mut [f64],
@@ -247,7 +320,7 @@ impl Work {
             nonbasic: &mut self.nonbasic[..n + 1],
             nb_pos: &mut self.nb_pos[..2 * n + 1],
             col: &mut self.col[..ld],
-            theta: &mut self.theta[..ld],
+            hot: &mut self.hot[..ld],
             ties: &mut self.ties[..n],
             cover: &mut self.cover[..n],
             row_sum: &mut self.row_sum[..ld],
@@ -262,7 +335,7 @@ impl Work {
         self.nonbasic.resize(n + 1, 0);
         self.nb_pos.resize(2 * n + 1, 0);
         self.col.resize(ld, 0.0);
-        self.theta.resize(ld, 0.0);
+        self.hot.resize(ld, 0.0);
         self.ties.resize(n, 0);
         self.cover.resize(n, 0.0);
         self.row_sum.resize(ld, 0.0);
@@ -270,22 +343,11 @@ impl Work {
     }
 }
 
-/// Copies `M` into `copy` (column-major, stride `ld`, zero padding rows) and returns
-/// `‖M‖_∞`; a non-finite result means `M` has a non-finite entry (or row sums overflow).
-/// `row_sum` is scratch of length `ld`.
+/// `‖M‖_∞`, read in place; a non-finite result means `M` has a non-finite entry (or row
+/// sums overflow). `row_sum` is scratch of length `ld`.
 #[inline(always)]
-pub(crate) fn copy_matrix(
-    n: usize,
-    m: &DMatrixView<'_, f64>,
-    copy: &mut [f64],
-    row_sum: &mut [f64],
-) -> f64 {
+pub(crate) fn matrix_norm(n: usize, m: MatRef<'_>, row_sum: &mut [f64]) -> f64 {
     let ld = leading_dim(n);
-    let copy = &mut copy[..ld * n];
-    for (j, dst) in copy.chunks_exact_mut(ld).enumerate() {
-        let src = m.column(j);
-        set_padded(dst, 1.0, &src.as_slice()[..n]);
-    }
     // Small n: accumulate on the stack (registers).
     let mut local = [0.0; leading_dim(MAX_FIXED)];
     let row_sum = if n <= MAX_FIXED {
@@ -294,9 +356,11 @@ pub(crate) fn copy_matrix(
         &mut row_sum[..ld]
     };
     row_sum.fill(0.0);
-    for col in copy.chunks_exact(ld) {
-        for (s, &v) in row_sum.iter_mut().zip(col) {
-            *s += v.abs();
+    for j in 0..n {
+        let col = &m.col(j)[..n];
+        for (g, s4) in row_sum.chunks_exact_mut(4).enumerate() {
+            let v = map_group(col, g, |k, c| s4[k] + c.abs());
+            s4.copy_from_slice(&v);
         }
     }
     // Four lanes: independent chains. The sum exposes NaN and ∞ (max skips NaN).
@@ -315,67 +379,41 @@ pub(crate) fn copy_matrix(
     }
 }
 
-/// Loads `[q·q_inv | I | −M·m_inv | −d]` (`M` the copy made by [`copy_matrix`],
-/// `d = work.cover`) with basis `w`; returns `m_inv = 1 / pow2_floor(m_norm)`.
+/// Loads the right-hand side `q·q_inv` and the basis `w` of the tableau
+/// `[q·q_inv | I | −M·m_inv | −d]` (`d = work.cover`); returns
+/// `m_inv = 1 / pow2_floor(m_norm)`. The columns of `I` stay implicit (basic), those of
+/// `−M·m_inv` are written by the first pivot ([`pivot_loop`]), that of `−d` never (`z0`
+/// enters at once and stays basic until it leaves, which ends the run).
 #[inline(always)]
-pub(crate) fn load(
-    n: usize,
-    t: &mut Parts<'_>,
-    m_copy: &[f64],
-    q: &[f64],
-    q_inv: f64,
-    m_norm: f64,
-) -> f64 {
-    load_slices(
-        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.cover, m_copy, q, q_inv, m_norm,
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn load_slices(
-    n: usize,
-    tab: &mut [f64],
-    basis: &mut [usize],
-    nonbasic: &mut [usize],
-    nb_pos: &mut [usize],
-    cover: &[f64],
-    m_copy: &[f64],
-    q: &[f64],
-    q_inv: f64,
-    m_norm: f64,
-) -> f64 {
+pub(crate) fn load(n: usize, t: &mut Parts<'_>, q: &[f64], q_inv: f64, m_norm: f64) -> f64 {
     let ld = leading_dim(n);
-    let tab = &mut tab[..ld * (2 * n + 2)];
-    let q = &q[..n];
-    let (rhs, rest) = tab.split_at_mut(ld);
-    let (eye, rest) = rest.split_at_mut(n * ld);
-    let (zcols, dcol) = rest.split_at_mut(n * ld);
-    set_padded(rhs, q_inv, q);
-    for (i, e) in eye.chunks_exact_mut(ld).enumerate() {
-        set_unit(e, i);
-    }
-    let m_inv = inv_pow2_floor(m_norm);
-    set_scaled(zcols, -m_inv, &m_copy[..ld * n]);
-    set_padded(dcol, -1.0, &cover[..n]);
-    for (i, b) in basis[..n].iter_mut().enumerate() {
+    set_padded(&mut t.tab[..ld], q_inv, &q[..n]);
+    for (i, b) in t.basis[..n].iter_mut().enumerate() {
         *b = i;
     }
-    for (k, v) in nonbasic[..n + 1].iter_mut().enumerate() {
+    for (k, v) in t.nonbasic[..n + 1].iter_mut().enumerate() {
         *v = n + k;
     }
-    for (v, p) in nb_pos[..2 * n + 1].iter_mut().enumerate() {
-        *p = v.wrapping_sub(n);
+    for (v, p) in t.nb_pos[..2 * n + 1].iter_mut().enumerate() {
+        *p = if v < n { usize::MAX } else { v - n };
     }
-    m_inv
+    inv_pow2_floor(m_norm)
 }
 
-/// Lemke's pivoting on the loaded tableau; returns how it ended and the pivot count. The
-/// basic values are left in column 0 of `work.tab`, their variables in `work.basis`.
+/// Lemke's pivoting on the tableau set up by [`load`] (`M`, `m_inv` give the columns of
+/// `z`, written by the first pivot); returns how it ended and the pivot count. The basic
+/// values are left in column 0 of `work.tab`, their variables in `work.basis`.
 #[inline(always)]
-pub(crate) fn pivot_loop(n: usize, t: &mut Parts<'_>, max_pivots: usize) -> (Ending, usize) {
+pub(crate) fn pivot_loop(
+    n: usize,
+    t: &mut Parts<'_>,
+    m: MatRef<'_>,
+    m_inv: f64,
+    max_pivots: usize,
+) -> (Ending, usize) {
     pivot_loop_slices(
-        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.theta, t.ties, t.cover, max_pivots,
+        n, t.tab, t.basis, t.nonbasic, t.nb_pos, t.col, t.hot, t.ties, t.cover, m, m_inv,
+        max_pivots,
     )
 }
 
@@ -388,9 +426,11 @@ fn pivot_loop_slices(
     nonbasic: &mut [usize],
     nb_pos: &mut [usize],
     col: &mut [f64],
-    theta: &mut [f64],
+    hot: &mut [f64],
     ties: &mut [usize],
     cover: &[f64],
+    m: MatRef<'_>,
+    m_inv: f64,
     max_pivots: usize,
 ) -> (Ending, usize) {
     let ld = leading_dim(n);
@@ -406,7 +446,6 @@ fn pivot_loop_slices(
     } else {
         &mut col[..ld]
     };
-    let theta = &mut theta[..ld];
     let ties = &mut ties[..n];
     let cover = &cover[..n];
     if max_pivots == 0 {
@@ -414,12 +453,19 @@ fn pivot_loop_slices(
     }
 
     // z0 enters; the row lexicographically minimising (q_i, e_i)/d_i leaves.
-    let Some(r) = lex_min_ratio(n, ld, tab, cover, 0.0, false, usize::MAX, ties) else {
+    let lex = Lex {
+        ld,
+        tab,
+        basis,
+        nb_pos,
+    };
+    let Some(r) = lex_min_ratio(n, lex, cover, 0.0, false, usize::MAX, ties) else {
         return (Ending::Breakdown, 0);
     };
-    set_padded(col, -1.0, cover);
+    set_padded(col, 1.0, cover); // −(−d)
+    let load_z = Some((m, m_inv));
     pivot(
-        theta, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0,
+        hot, n, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0, load_z,
     );
     let z0_row = r;
     let mut leaving = r; // w_r
@@ -451,13 +497,22 @@ fn pivot_loop_slices(
         }
         let col_max = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
         let tol = PIV_TOL * col_max;
-        let Some(r) = lex_min_ratio(n, ld, tab, entering_col, tol, true, z0_row, ties) else {
+        let lex = Lex {
+            ld,
+            tab,
+            basis,
+            nb_pos,
+        };
+        let ratio = lex_min_ratio(n, lex, entering_col, tol, true, z0_row, ties);
+        let Some(r) = ratio else {
             return (Ending::Ray, pivots);
         };
         let p = entering_col[r];
-        col.copy_from_slice(entering_col);
+        negate_into(col, entering_col);
         leaving = basis[r];
-        pivot(theta, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering);
+        pivot(
+            hot, n, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering, None,
+        );
         pivots += 1;
         if !tab[r].is_finite() {
             return (Ending::Breakdown, pivots);
@@ -495,6 +550,16 @@ pub(crate) fn extract(
     sum.is_finite()
 }
 
+/// What the lexicographic ratio test reads: the tableau (column stride `ld`; the
+/// right-hand side and `B⁻¹`) and the basis.
+#[derive(Clone, Copy)]
+struct Lex<'a> {
+    ld: usize,
+    tab: &'a [f64],
+    basis: &'a [usize],
+    nb_pos: &'a [usize],
+}
+
 /// Lexicographic minimum-ratio test: among rows with `col_i > tol`, the row minimising
 /// `(rhs_i, B⁻¹_{i·}) / col_i` lexicographically. `prefer` (z0's row) wins a tie of the
 /// first component, which ends the run. `clamp` reads round-off negative right-hand sides
@@ -503,15 +568,14 @@ pub(crate) fn extract(
 #[inline(always)]
 fn lex_min_ratio(
     n: usize,
-    ld: usize,
-    tab: &[f64],
+    lex: Lex<'_>,
     col: &[f64],
     tol: f64,
     clamp: bool,
     prefer: usize,
     ties: &mut [usize],
 ) -> Option<usize> {
-    let rhs = &tab[..n];
+    let rhs = &lex.tab[..n];
     let col = &col[..n];
     let rhs_at = |r: f64| if clamp && r <= 0.0 { 0.0 } else { r };
     // Minimum ratio num/den by cross-multiplication (no division per row); (1, 0) is +∞,
@@ -546,30 +610,48 @@ fn lex_min_ratio(
     if count <= 1 {
         return Some(best);
     }
-    Some(break_ties(n, ld, tab, col, &mut ties[..count]))
+    Some(break_ties(n, lex, col, &mut ties[..count]))
 }
 
 /// Lexicographic tie-break on the rows of `B⁻¹` (the w-columns), column by column; the
-/// rows of `B⁻¹` are independent, so one row remains (up to round-off).
+/// rows of `B⁻¹` are independent, so one row remains (up to round-off). The column of a
+/// basic `w_k` is the unit vector of its row (not stored).
 #[cold]
 #[inline(never)]
-fn break_ties(n: usize, ld: usize, tab: &[f64], col: &[f64], ties: &mut [usize]) -> usize {
+fn break_ties(n: usize, lex: Lex<'_>, col: &[f64], ties: &mut [usize]) -> usize {
+    let Lex {
+        ld,
+        tab,
+        basis,
+        nb_pos,
+    } = lex;
     let mut count = ties.len();
     for k in 0..n {
-        let bk = &tab[(1 + k) * ld..(2 + k) * ld];
-        let vmin = ties[..count]
-            .iter()
-            .fold(f64::INFINITY, |a, &i| a.min(bk[i] / col[i]));
-        let cut = vmin + TIE_TOL * vmin.abs().max(1.0);
-        let mut kept = 0;
-        for t in 0..count {
-            let i = ties[t];
-            if bk[i] / col[i] <= cut {
-                ties[kept] = i;
-                kept += 1;
+        if nb_pos[k] == usize::MAX {
+            // `w_k` is basic: column `k` of B⁻¹ is `e_row` (not stored), so every ratio is 0
+            // but `1/col_row` if its row ties; the minimum is 0 and the cut `TIE_TOL`.
+            if let Some(t) = ties[..count].iter().position(|&i| basis[i] == k) {
+                if 1.0 / col[ties[t]] > TIE_TOL {
+                    ties.copy_within(t + 1..count, t);
+                    count -= 1;
+                }
             }
+        } else {
+            let bk = &tab[(1 + k) * ld..(2 + k) * ld];
+            let vmin = ties[..count]
+                .iter()
+                .fold(f64::INFINITY, |a, &i| a.min(bk[i] / col[i]));
+            let cut = vmin + TIE_TOL * vmin.abs().max(1.0);
+            let mut kept = 0;
+            for t in 0..count {
+                let i = ties[t];
+                if bk[i] / col[i] <= cut {
+                    ties[kept] = i;
+                    kept += 1;
+                }
+            }
+            count = kept.max(1);
         }
-        count = kept.max(1);
         if count == 1 {
             break;
         }
@@ -577,13 +659,15 @@ fn break_ties(n: usize, ld: usize, tab: &[f64], col: &[f64], ties: &mut [usize])
     ties[0]
 }
 
-/// Pivots on row `r` with `entering` (its column copied in `col`, `p = col[r]`): the row's basic
-/// variable leaves. Updates the right-hand side and the non-basic columns (the leaving
-/// variable's unit column among them); the entering column becomes `e_r`.
+/// Pivots on row `r` with `entering` (its column negated in `col`, `p = −col[r]`): the row's
+/// basic variable leaves. Updates the right-hand side and the non-basic columns; the
+/// leaving variable's column, the unit vector `e_r` it stood for (not stored), is written
+/// directly; the entering column becomes implicit (basic).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn pivot(
     hot_buf: &mut [f64],
+    n: usize,
     ld: usize,
     tab: &mut [f64],
     basis: &mut [usize],
@@ -593,6 +677,7 @@ fn pivot(
     p: f64,
     r: usize,
     entering: usize,
+    load_z: Option<(MatRef<'_>, f64)>,
 ) {
     let leaving = basis[r];
     basis[r] = entering;
@@ -609,18 +694,45 @@ fn pivot(
     } else {
         &mut hot_buf[..ld]
     };
-    set_unit(hot, r);
+    set_hot(hot, r);
     let hot = &*hot;
+    let tab = &mut tab[..ld * (2 * n + 2)];
+    // A slice argument: when the closure is not inlined (large n), its arguments do not
+    // alias, so the update needs no overlap checks.
     let update = |column: &mut [f64]| {
         let column = &mut column[..ld];
         let f = column[r] * inv;
         eliminate(column, f, col, hot);
     };
     update(&mut tab[..ld]);
-    for &v in nonbasic.iter() {
-        let c = 1 + v;
-        update(&mut tab[c * ld..(c + 1) * ld]);
+    match load_z {
+        // First pivot (z0 enters, nonbasic = [z_1..z_n, w_r]): the columns of z, −M·m_inv,
+        // are computed from M and updated in one pass instead of loaded, then updated.
+        Some((m, m_inv)) => {
+            for (j, &v) in nonbasic[..slot].iter().enumerate() {
+                debug_assert_eq!(v, n + j);
+                let c = 1 + v;
+                let src = &m.col(j)[..n];
+                eliminate_loaded(
+                    &mut tab[c * ld..(c + 1) * ld],
+                    -m_inv,
+                    src,
+                    r,
+                    inv,
+                    col,
+                    hot,
+                );
+            }
+        }
+        None => {
+            for &v in &nonbasic[..slot] {
+                update(column_mut(tab, ld, 1 + v));
+            }
+            for &v in &nonbasic[slot + 1..] {
+                update(column_mut(tab, ld, 1 + v));
+            }
+        }
     }
-    let c = 1 + entering;
-    set_unit(&mut tab[c * ld..(c + 1) * ld], r);
+    let c = 1 + leaving;
+    eliminate_unit(&mut tab[c * ld..(c + 1) * ld], inv, col, hot);
 }

@@ -373,3 +373,42 @@ fn one_solver_reused_across_sizes_matches_fresh_solvers() {
         assert_eq!(reused.solution(), &fresh);
     }
 }
+
+#[test]
+fn covering_vector_survives_fallbacks_and_follows_option_changes() {
+    // The configured covering vector is written once per size and options change: a
+    // fallback's alternate coverings must not leak into the next solve of the same size,
+    // and `set_options` must take effect at the same size.
+    let ray = (dmatrix![-1.0, 1.0; -1.0, 0.0], dvector![-1.0, 2.0]); // alternate covering
+    let spd = (dmatrix![2.0, 1.0; 1.0, 3.0], dvector![-1.0, -1.0]);
+    let mut reused = LemkeSolver::default();
+    for (m, q) in [&ray, &spd, &ray, &spd] {
+        let again = reused.solve(m.as_view(), q.as_view()).unwrap().clone();
+        let fresh = common::solve_with(LemkeOptions::default(), m, q);
+        assert_eq!(again, fresh);
+    }
+    for covering in [vec![3.0, 0.5], vec![0.5, 3.0]] {
+        let options = LemkeOptions {
+            covering: Some(covering),
+            ..LemkeOptions::default()
+        };
+        reused.set_options(options.clone());
+        let (m, q) = &spd;
+        let again = reused.solve(m.as_view(), q.as_view()).unwrap().clone();
+        assert_eq!(again, common::solve_with(options, m, q));
+    }
+    let options = LemkeOptions {
+        covering: Some(vec![1.0, -1.0]),
+        ..LemkeOptions::default()
+    };
+    reused.set_options(options);
+    let (m, q) = &spd;
+    let err = reused.solve(m.as_view(), q.as_view()).unwrap_err();
+    assert_eq!(
+        err,
+        LcpInputError::CoveringNotPositive {
+            index: 1,
+            value: -1.0
+        }
+    );
+}

@@ -13,7 +13,7 @@
 //! solve would pick: the one with the previous step's basis, if it still certifies.
 
 use super::LemkeSolver;
-use crate::certificate::ProblemRef;
+use crate::certificate::{MatRef, ProblemRef};
 use crate::enumerate;
 use crate::tableau;
 use crate::{LcpInputError, LcpSolution, LcpStatus, SolveMethod};
@@ -182,16 +182,14 @@ impl LemkeSolver {
             return false;
         }
         self.reserve(n);
-        let ld = tableau::leading_dim(n);
-        let m_copy = &mut self.m_copy.as_mut_slice()[..ld * n];
+        let mref = MatRef::new(m);
         let parts = self.work.parts(n);
-        let m_norm = tableau::copy_matrix(n, m, m_copy, parts.row_sum);
+        let m_norm = tableau::matrix_norm(n, mref, parts.row_sum);
         if !m_norm.is_finite() {
             return false;
         }
         let p = ProblemRef {
-            m: m_copy,
-            ld,
+            m: mref,
             q,
             m_norm,
             q_norm,
@@ -236,7 +234,7 @@ impl LemkeSolver {
         tableau::set_padded(mz, 1.0, q);
         for (&j, &z_j) in idx.iter().zip(b.iter()) {
             zs[j] = z_j;
-            tableau::sub_scaled(mz, -z_j, &m_copy[j * ld..(j + 1) * ld]);
+            tableau::sub_scaled_padded(mz, -z_j, &mref.col(j)[..n]);
         }
         for ((w_i, &m_i), &b_i) in ws.iter_mut().zip(mz.iter()).zip(basic) {
             *w_i = if b_i { 0.0 } else { m_i };
