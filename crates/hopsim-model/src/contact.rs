@@ -123,6 +123,10 @@ fn owned_by_line(
     else {
         return true;
     };
+    if !(from.is_finite() || to.is_finite()) {
+        // A line without ends meets no corner.
+        return true;
+    }
     let tangent = TerrainFeature::tangent(*normal);
     for end in [*from, *to].into_iter().filter(|s| s.is_finite()) {
         let end = origin + end * tangent;

@@ -15,9 +15,10 @@ pub(crate) struct Rotation {
 }
 
 impl Rotation {
+    /// The rotation by `theta` ([`crate::sin_cos`]).
     #[inline]
     pub fn new(theta: f64) -> Self {
-        let (sin, cos) = theta.sin_cos();
+        let (sin, cos) = crate::trig::sin_cos(theta);
         Self { sin, cos }
     }
 
@@ -71,6 +72,9 @@ pub struct Kinematics {
     jacobian_constant: bool,
     /// The Jacobian rows have been written once (a constant Jacobian is not rewritten).
     jacobian_written: bool,
+    /// `Σ_b J_bᵀ m_b g`, the generalised weight, written with a constant Jacobian (see
+    /// [`Kinematics::constant_weight`]).
+    weight: Vec<f64>,
     /// `J̇_b u` of each body's centre of mass (centripetal terms), m/s².
     bias: Vec<Vec2>,
     /// Joint position and velocity of each body (see [`Kinematics::joint_position`]).
@@ -120,6 +124,7 @@ impl Kinematics {
             pattern_start,
             jacobian_constant,
             jacobian_written: false,
+            weight: vec![0.0; model.dof()],
             bias: vec![Vec2::zeros(); nb],
             joint_position: vec![0.0; nb],
             joint_rate: vec![0.0; nb],
@@ -275,6 +280,14 @@ impl Kinematics {
                 }
             }
         }
+        if write_jacobian && self.jacobian_constant {
+            let mut weight = std::mem::take(&mut self.weight);
+            weight.fill(0.0);
+            for (b, body) in model.bodies.iter().enumerate() {
+                self.add_point_force_to(b, Vec2::zeros(), body.mass * model.gravity, &mut weight);
+            }
+            self.weight = weight;
+        }
     }
 
     /// The parent's Jacobian rows `(x, y, θ)` (zero rows for the world) and body `b`'s
@@ -358,6 +371,15 @@ impl Kinematics {
         self.jacobian_constant
     }
 
+    /// The generalised weight `Σ_b J_bᵀ m_b g` when the Jacobian is constant
+    /// ([`Kinematics::jacobian_is_constant`]), written with it; `None` otherwise. With a
+    /// constant Jacobian `J̇ = 0`, so the bias accelerations vanish and this vector is every
+    /// body's whole share of `h` (docs/physics.md §1, §7).
+    #[inline]
+    pub fn constant_weight(&self) -> Option<&[f64]> {
+        (self.jacobian_constant && self.jacobian_written).then_some(&self.weight[..])
+    }
+
     /// Whether `M(q)` is diagonal at every `q`: every Jacobian row touches at most one
     /// coordinate (a base with bodies pivoting at their own centres of mass, as Robbit).
     pub fn mass_matrix_is_diagonal(&self) -> bool {
@@ -375,13 +397,24 @@ impl Kinematics {
         }
     }
 
-    /// Writes `J_Pᵀ f` into `out` (length `n`), e.g. a contact direction `w_N`.
+    /// Writes `J_Pᵀ n` into `w_n` and `J_Pᵀ t` into `w_t` (length `n`) in one pass: the
+    /// contact directions `w_N`, `w_T` of a contact frame `(n, t)` at the material point of
+    /// body `b` at world offset `r` from its centre of mass (docs/physics.md §1, [2.5-2.7]).
     #[inline]
-    pub fn point_force_direction_to(&self, b: usize, r: Vec2, f: Vec2, out: &mut [f64]) {
-        let torque = perp(r).dot(&f);
-        let (x, y, t) = self.jacobian_rows(b);
-        for (o, ((x, y), t)) in out.iter_mut().zip(x.iter().zip(y).zip(t)) {
-            *o = x * f.x + y * f.y + t * torque;
+    pub fn frame_directions_to(
+        &self,
+        b: usize,
+        r: Vec2,
+        (n, t): (Vec2, Vec2),
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) {
+        let lever = perp(r);
+        let (torque_n, torque_t) = (lever.dot(&n), lever.dot(&t));
+        let (x, y, th) = self.jacobian_rows(b);
+        for ((wn, wt), ((x, y), th)) in w_n.iter_mut().zip(w_t).zip(x.iter().zip(y).zip(th)) {
+            *wn = x * n.x + y * n.y + th * torque_n;
+            *wt = x * t.x + y * t.y + th * torque_t;
         }
     }
 

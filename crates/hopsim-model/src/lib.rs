@@ -19,6 +19,7 @@ mod model;
 mod pairs;
 mod shape;
 mod terrain;
+mod trig;
 
 pub use body::{Body, Joint, JointCoordinate, JointKind, JointLimits};
 pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
@@ -28,6 +29,7 @@ pub use model::{LimitCandidate, Model, ModelError};
 pub use pairs::{pair_features, PairCandidate, PairGeometry};
 pub use shape::{Shape, ShapeInstance};
 pub use terrain::{Terrain, TerrainFeature};
+pub use trig::sin_cos;
 
 /// A 2-vector in the world or a body frame, metres.
 pub type Vec2 = nalgebra::Vector2<f64>;

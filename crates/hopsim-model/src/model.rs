@@ -448,16 +448,29 @@ impl Model {
         mut conservative: Option<&mut [f64]>,
         mut dissipative: Option<&mut [f64]>,
     ) {
+        // M u̇ = Σ J_bᵀ m_b (g - J̇_b u): the velocity-product terms enter as the centripetal
+        // "bias" accelerations of the body's centre of mass; with a constant Jacobian they
+        // vanish and the sum is the constant generalised weight.
+        let weight = kinematics.constant_weight();
+        if let (Some(h), Some(weight)) = (conservative.as_deref_mut(), weight) {
+            for (h, w) in h.iter_mut().zip(weight) {
+                *h += w;
+            }
+        }
+        let each_weight = weight.is_none();
         for (b, body) in self.bodies.iter().enumerate() {
-            if let Some(h) = conservative.as_deref_mut() {
-                // M u̇ = Σ J_bᵀ m_b (g - J̇_b u): the velocity-product terms enter as the
-                // centripetal "bias" accelerations of the body's centre of mass.
-                let f = body.mass * (self.gravity - kinematics.bias(b));
-                kinematics.add_point_force_to(b, Vec2::zeros(), f, h);
+            if each_weight {
+                if let Some(h) = conservative.as_deref_mut() {
+                    let f = body.mass * (self.gravity - kinematics.bias(b));
+                    kinematics.add_point_force_to(b, Vec2::zeros(), f, h);
+                }
             }
             let Some(joint) = body.joint.as_ref() else {
                 continue;
             };
+            if joint.damping == 0.0 && joint.stiffness == 0.0 {
+                continue;
+            }
             if let Some(h) = dissipative.as_deref_mut().filter(|_| joint.damping != 0.0) {
                 let rate = match (joint.kind, joint.parent) {
                     (JointKind::Revolute, Some(p)) => {
@@ -566,8 +579,7 @@ impl Model {
     ) {
         let body = self.shapes[self.contacts[i].shape].body;
         let r = geometry.point - kinematics.position[body];
-        kinematics.point_force_direction_to(body, r, geometry.normal, w_n);
-        kinematics.point_force_direction_to(body, r, geometry.tangent(), w_t);
+        kinematics.frame_directions_to(body, r, (geometry.normal, geometry.tangent()), w_n, w_t);
     }
 
     /// Kinetic energy `½ Σ (m_b |v_b|² + I_b ω_b²)` = `½ uᵀ M u`.

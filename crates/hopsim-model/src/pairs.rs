@@ -220,9 +220,8 @@ pub(crate) fn pair_directions_to(
     let tangent = geometry.as_contact().tangent();
     let r_b = geometry.point - kinematics.position[probe];
     let r_a = geometry.target_point - kinematics.position[target];
-    kinematics.point_force_direction_to(probe, r_b, geometry.normal, w_n);
+    kinematics.frame_directions_to(probe, r_b, (geometry.normal, tangent), w_n, w_t);
     kinematics.add_point_force_to(target, r_a, -geometry.normal, w_n);
-    kinematics.point_force_direction_to(probe, r_b, tangent, w_t);
     kinematics.add_point_force_to(target, r_a, -tangent, w_t);
 }
 

@@ -124,14 +124,29 @@ impl Factor {
     pub fn solve(&self, xs: &mut [f64]) {
         let n = self.n;
         if self.diagonal {
-            for row in xs.chunks_exact_mut(n) {
-                for (x, inv) in row.iter_mut().zip(&self.data[..n]) {
-                    *x *= inv;
-                }
-            }
-            return;
+            by_size!(n, scale_many_fixed, scale_many_dynamic, (&self.data, xs))
+        } else {
+            by_size!(n, solve_many_fixed, solve_many_dynamic, (&self.data, xs))
         }
-        by_size!(n, solve_many_fixed, solve_many_dynamic, (&self.data, xs))
+    }
+}
+
+/// The diagonal solve: each row of `xs` times the inverse diagonal `inv` (`N` entries).
+fn scale_many_fixed<const N: usize>(inv: &[f64], xs: &mut [f64]) {
+    let inv: &[f64; N] = inv[..N].try_into().expect("N entries");
+    let (xs, _) = xs.as_chunks_mut::<N>();
+    for x in xs {
+        for (x, inv) in x.iter_mut().zip(inv) {
+            *x *= inv;
+        }
+    }
+}
+
+fn scale_many_dynamic(n: usize, inv: &[f64], xs: &mut [f64]) {
+    for row in xs.chunks_exact_mut(n) {
+        for (x, inv) in row.iter_mut().zip(&inv[..n]) {
+            *x *= inv;
+        }
     }
 }
 

@@ -610,9 +610,8 @@ impl Stepper {
         // A (column-major, leading dimension `ld`) and b of docs/physics.md §4.3.
         let ld = self.lcp_a.nrows();
         let a = self.lcp_a.as_mut_slice();
-        for column in a.chunks_exact_mut(ld).take(size) {
-            column[..size].fill(0.0);
-        }
+        // The first `size` columns whole (one contiguous fill; rows past `size` are unused).
+        a[..size * ld].fill(0.0);
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
             let mat_r = &model.material(self.active[r]);
