@@ -207,8 +207,11 @@ impl Kinematics {
                     let (lp, lc) = (perp(r_pivot), perp(r_com));
                     self.position[b] = p_position + r_pivot + r_com;
                     self.velocity[b] = p_velocity + lp * wp + lc * rate;
-                    // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it.
-                    self.bias[b] = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
+                    // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it
+                    // (with a constant Jacobian `J̇ = 0`: the bias keeps its zeros).
+                    if !self.jacobian_constant {
+                        self.bias[b] = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
+                    }
                     if !write_jacobian {
                         continue;
                     }
@@ -247,8 +250,11 @@ impl Kinematics {
                     let lever = perp(r);
                     self.position[b] = p_position + r;
                     self.velocity[b] = p_velocity + lever * wp + e * rate_s;
-                    // Centripetal and Coriolis accelerations: −ω² r + 2 ω ṡ perp(e).
-                    self.bias[b] = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
+                    // Centripetal and Coriolis accelerations: −ω² r + 2 ω ṡ perp(e) (zero with
+                    // a constant Jacobian).
+                    if !self.jacobian_constant {
+                        self.bias[b] = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
+                    }
                     if !write_jacobian {
                         continue;
                     }
@@ -531,7 +537,7 @@ fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>, bool) {
 /// `R v`, skipping the (possibly NaN) rotation of a body without geometry when `v = 0`.
 #[inline]
 fn rotated(rotation: Rotation, v: Vec2) -> Vec2 {
-    if v == Vec2::zeros() {
+    if v.x == 0.0 && v.y == 0.0 {
         Vec2::zeros()
     } else {
         rotation.apply(v)

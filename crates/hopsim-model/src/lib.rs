@@ -25,7 +25,7 @@ pub use body::{Body, Joint, JointCoordinate, JointKind, JointLimits};
 pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
 pub use forces::Spring;
 pub use kinematics::Kinematics;
-pub use model::{LimitCandidate, Model, ModelError};
+pub use model::{Energies, LimitCandidate, Model, ModelError};
 pub use pairs::{pair_features, PairCandidate, PairGeometry};
 pub use shape::{Shape, ShapeInstance};
 pub use terrain::{Terrain, TerrainFeature};

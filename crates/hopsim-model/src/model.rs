@@ -584,42 +584,44 @@ impl Model {
 
     /// Kinetic energy `½ Σ (m_b |v_b|² + I_b ω_b²)` = `½ uᵀ M u`.
     pub fn kinetic_energy(&self, kinematics: &Kinematics) -> f64 {
-        self.bodies
-            .iter()
-            .enumerate()
-            .map(|(b, body)| {
-                0.5 * (body.mass * kinematics.velocity[b].norm_squared()
-                    + body.inertia * kinematics.angular_velocity[b].powi(2))
-            })
-            .sum()
+        self.energies(kinematics).kinetic
     }
 
     /// Gravitational potential energy `-Σ m_b g · p_b` (zero at the origin).
     pub fn potential_energy(&self, kinematics: &Kinematics) -> f64 {
-        self.bodies
-            .iter()
-            .enumerate()
-            .map(|(b, body)| -body.mass * self.gravity.dot(&kinematics.position[b]))
-            .sum()
+        self.energies(kinematics).potential
     }
 
     /// Energy stored in the springs and the joint springs.
     pub fn spring_energy(&self, kinematics: &Kinematics) -> f64 {
-        let springs: f64 = (0..self.springs.len())
+        self.energies(kinematics).spring
+    }
+
+    /// The kinetic, potential and spring energies in one pass over the bodies
+    /// (docs/physics.md §6.1).
+    pub fn energies(&self, kinematics: &Kinematics) -> Energies {
+        let mut spring: f64 = (0..self.springs.len())
             .map(|s| {
                 let (a, b) = self.spring_ends(kinematics, s);
                 self.springs[s].energy((a - b).norm())
             })
             .sum();
-        self.bodies
-            .iter()
-            .enumerate()
-            .filter_map(|(b, body)| body.joint.as_ref().map(|j| (b, j)))
-            .filter(|(_, j)| j.stiffness != 0.0)
-            .fold(springs, |sum, (b, j)| {
+        let (mut kinetic, mut potential) = (0.0, 0.0);
+        let bodies = self.bodies.iter().zip(&kinematics.velocity);
+        let moving = bodies.zip(kinematics.angular_velocity.iter().zip(&kinematics.position));
+        for (b, ((body, v), (w, p))) in moving.enumerate() {
+            kinetic += 0.5 * (body.mass * v.norm_squared() + body.inertia * w * w);
+            potential += -body.mass * self.gravity.dot(p);
+            if let Some(j) = body.joint.as_ref().filter(|j| j.stiffness != 0.0) {
                 let stretch = kinematics.joint_position(b) - j.rest_position;
-                sum + 0.5 * j.stiffness * stretch * stretch
-            })
+                spring += 0.5 * j.stiffness * stretch * stretch;
+            }
+        }
+        Energies {
+            kinetic,
+            potential,
+            spring,
+        }
     }
 
     /// Centre of mass of the bodies that move (fixed bodies excluded), m.
@@ -633,6 +635,17 @@ impl Model {
             .sum();
         weighted / self.total_mass()
     }
+}
+
+/// The energies of a model at one state, J (see [`Model::energies`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energies {
+    /// `½ uᵀ M u`.
+    pub kinetic: f64,
+    /// `-Σ m_b g · p_b` (zero at the origin).
+    pub potential: f64,
+    /// Stored in the springs and the joint springs.
+    pub spring: f64,
 }
 
 fn positive(body: &Body, what: &'static str, value: f64) -> Result<(), ModelError> {

@@ -120,6 +120,19 @@ impl Factor {
         factor_in_place(data, n)
     }
 
+    /// [`Factor::solve`] for a caller compiled for `n = N` (`N = 0`: any `n`), inlined into
+    /// it without the dispatch on `n`.
+    #[inline(always)]
+    pub fn solve_sized<const N: usize>(&self, xs: &mut [f64]) {
+        if N == 0 || N > 8 {
+            self.solve(xs);
+        } else if self.diagonal {
+            scale_many_fixed::<N>(&self.data, xs);
+        } else {
+            solve_many_fixed::<N>(&self.data, xs);
+        }
+    }
+
     /// Solves `A x = b` in place for each row of `xs` (`count × n`, row-major).
     pub fn solve(&self, xs: &mut [f64]) {
         let n = self.n;
@@ -132,6 +145,7 @@ impl Factor {
 }
 
 /// The diagonal solve: each row of `xs` times the inverse diagonal `inv` (`N` entries).
+#[inline(always)]
 fn scale_many_fixed<const N: usize>(inv: &[f64], xs: &mut [f64]) {
     let inv: &[f64; N] = inv[..N].try_into().expect("N entries");
     let (xs, _) = xs.as_chunks_mut::<N>();

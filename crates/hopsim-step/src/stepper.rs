@@ -309,9 +309,10 @@ impl Stepper {
     }
 
     fn fill_energies(&self, model: &Model, energy: &mut EnergyLedger) {
-        energy.kinetic = model.kinetic_energy(&self.kinematics);
-        energy.potential = model.potential_energy(&self.kinematics);
-        energy.spring = model.spring_energy(&self.kinematics);
+        let energies = model.energies(&self.kinematics);
+        energy.kinetic = energies.kinetic;
+        energy.potential = energies.potential;
+        energy.spring = energies.spring;
     }
 
     /// `min_gap` and `max_penetration` of the record over the enabled contacts, in one pass.
@@ -572,7 +573,7 @@ impl Stepper {
         normals.copy_from_slice(&self.w_n[..k * n]);
         tangents.copy_from_slice(&self.w_t[..k * n]);
         limits.copy_from_slice(&self.w_limit[..l * n]);
-        self.factor.solve(solved);
+        self.factor.solve_sized::<N>(solved);
         if self.locks.count > 0 {
             for row in solved[n..].chunks_exact_mut(n) {
                 self.locks.project(row);
