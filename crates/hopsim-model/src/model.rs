@@ -448,23 +448,17 @@ impl Model {
         mut conservative: Option<&mut [f64]>,
         mut dissipative: Option<&mut [f64]>,
     ) {
-        // M u̇ = Σ J_bᵀ m_b (g - J̇_b u): the velocity-product terms enter as the centripetal
-        // "bias" accelerations of the body's centre of mass; with a constant Jacobian they
-        // vanish and the sum is the constant generalised weight.
-        let weight = kinematics.constant_weight();
-        if let (Some(h), Some(weight)) = (conservative.as_deref_mut(), weight) {
-            for (h, w) in h.iter_mut().zip(weight) {
-                *h += w;
+        if let Some(h) = conservative.as_deref_mut() {
+            match kinematics.constant_weight() {
+                Some(weight) => {
+                    for (h, w) in h.iter_mut().zip(weight) {
+                        *h += w;
+                    }
+                }
+                None => self.add_body_weights(kinematics, h),
             }
         }
-        let each_weight = weight.is_none();
         for (b, body) in self.bodies.iter().enumerate() {
-            if each_weight {
-                if let Some(h) = conservative.as_deref_mut() {
-                    let f = body.mass * (self.gravity - kinematics.bias(b));
-                    kinematics.add_point_force_to(b, Vec2::zeros(), f, h);
-                }
-            }
             let Some(joint) = body.joint.as_ref() else {
                 continue;
             };
@@ -508,6 +502,18 @@ impl Model {
                     kinematics.add_point_force_to(spring.body_b, rb, -f, h);
                 }
             }
+        }
+    }
+
+    /// Adds `Σ J_bᵀ m_b (g − J̇_b u)` to `h`: the weights with the velocity-product terms,
+    /// which enter as the centripetal "bias" accelerations of each centre of mass
+    /// (docs/physics.md §1). With a constant Jacobian they vanish and the sum is
+    /// [`Kinematics::constant_weight`], which [`Model::add_forces`] adds instead.
+    #[inline(never)]
+    fn add_body_weights(&self, kinematics: &Kinematics, h: &mut [f64]) {
+        for (b, body) in self.bodies.iter().enumerate() {
+            let f = body.mass * (self.gravity - kinematics.bias(b));
+            kinematics.add_point_force_to(b, Vec2::zeros(), f, h);
         }
     }
 
