@@ -205,8 +205,14 @@ impl Kinematics {
                     let r_pivot = rotated(p_rotation, joint.pivot_in_parent);
                     let r_com = rotated(self.rotation[b], joint.com_in_child);
                     let (lp, lc) = (perp(r_pivot), perp(r_com));
-                    self.position[b] = p_position + r_pivot + r_com;
-                    self.velocity[b] = p_velocity + lp * wp + lc * rate;
+                    if is_zero(joint.pivot_in_parent) && is_zero(joint.com_in_child) {
+                        // Pivoting at the parent's centre of mass, which is its own.
+                        self.position[b] = p_position;
+                        self.velocity[b] = p_velocity;
+                    } else {
+                        self.position[b] = p_position + r_pivot + r_com;
+                        self.velocity[b] = p_velocity + lp * wp + lc * rate;
+                    }
                     // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it
                     // (with a constant Jacobian `J̇ = 0`: the bias keeps its zeros).
                     if !self.jacobian_constant {
@@ -534,10 +540,16 @@ fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>, bool) {
     (pattern, start, !varies.contains(&true))
 }
 
+/// `v = 0`, compared by components.
+#[inline(always)]
+fn is_zero(v: Vec2) -> bool {
+    v.x == 0.0 && v.y == 0.0
+}
+
 /// `R v`, skipping the (possibly NaN) rotation of a body without geometry when `v = 0`.
 #[inline]
 fn rotated(rotation: Rotation, v: Vec2) -> Vec2 {
-    if v.x == 0.0 && v.y == 0.0 {
+    if is_zero(v) {
         Vec2::zeros()
     } else {
         rotation.apply(v)
