@@ -13,9 +13,9 @@
 //! solve would pick: the one with the previous step's basis, if it still certifies.
 
 use super::LemkeSolver;
-use crate::certificate::{MatRef, ProblemRef};
+use crate::certificate::{max_abs, MatRef, ProblemRef};
 use crate::enumerate;
-use crate::tableau;
+use crate::tableau::{self, leading_dim};
 use crate::{LcpInputError, LcpSolution, LcpStatus, SolveMethod};
 use nalgebra::{DMatrixView, DVectorView};
 
@@ -24,6 +24,8 @@ use nalgebra::{DMatrixView, DVectorView};
 #[derive(Debug, Clone, Default)]
 pub struct WarmStart {
     basic: Vec<bool>,
+    /// The indices `i` of the basic `z_i`, increasing.
+    index: Vec<usize>,
     /// Size of the remembered basis (0: none).
     n: usize,
 }
@@ -33,6 +35,7 @@ impl WarmStart {
     pub fn with_capacity(capacity: usize) -> Self {
         WarmStart {
             basic: Vec::with_capacity(capacity),
+            index: Vec::with_capacity(capacity),
             n: 0,
         }
     }
@@ -54,11 +57,15 @@ impl WarmStart {
             self.forget();
             return;
         }
-        let n = sol.z.len();
         self.basic.clear();
-        self.basic
-            .extend(sol.z.iter().zip(sol.w.iter()).map(|(z, w)| z > w));
-        self.n = n;
+        self.index.clear();
+        for (i, (z, w)) in sol.z.iter().zip(sol.w.iter()).enumerate() {
+            self.basic.push(z > w);
+            if z > w {
+                self.index.push(i);
+            }
+        }
+        self.n = sol.z.len();
     }
 }
 
@@ -112,6 +119,43 @@ fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
     true
 }
 
+/// Largest size whose warm path is compiled on its own, with the basis solved on the
+/// stack.
+const MAX_WARM_FIXED: usize = 6;
+
+/// Gathers `M_BB` and `−q_B` of the `K` basic indices `index` and solves them on the stack
+/// with [`solve_small`] compiled for `K` (fixed trip counts); the solution goes to `b`.
+#[inline(always)]
+fn solve_basis_of_size<const K: usize>(p: &ProblemRef<'_>, index: &[usize], b: &mut [f64]) -> bool {
+    let (index, b) = (&index[..K], &mut b[..K]);
+    let mut a = [[0.0; K]; K];
+    for ((&i, a_row), b_i) in index.iter().zip(a.iter_mut()).zip(b.iter_mut()) {
+        for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
+            *a_ij = p.m(i, j);
+        }
+        *b_i = -p.q[i];
+    }
+    solve_small(&mut a, b)
+}
+
+/// [`solve_basis_of_size`] for the size of `index`, which is at most `W ≤
+/// MAX_WARM_FIXED`.
+#[inline(always)]
+fn solve_basis_sized<const W: usize>(p: &ProblemRef<'_>, index: &[usize], b: &mut [f64]) -> bool {
+    const _: () = assert!(MAX_WARM_FIXED == 6);
+    match index.len() {
+        0 => true,
+        1 => solve_basis_of_size::<1>(p, index, b),
+        2 if W >= 2 => solve_basis_of_size::<2>(p, index, b),
+        3 if W >= 3 => solve_basis_of_size::<3>(p, index, b),
+        4 if W >= 4 => solve_basis_of_size::<4>(p, index, b),
+        5 if W >= 5 => solve_basis_of_size::<5>(p, index, b),
+        6 if W >= 6 => solve_basis_of_size::<6>(p, index, b),
+        // More basic indices than the size: not a basis of this problem.
+        _ => false,
+    }
+}
+
 impl LemkeSolver {
     /// Solves `(M, q)` like [`LemkeSolver::solve`], trying first the basis remembered in
     /// `warm` (when it has the problem's size); remembers the basis of the answer. A warm
@@ -125,27 +169,41 @@ impl LemkeSolver {
     ) -> Result<&LcpSolution, LcpInputError> {
         let n = m.nrows();
         let fits = n > 0 && warm.n == n && m.ncols() == n && q.len() == n;
-        if fits && self.solve_basis_of(&m, q.as_slice(), &warm.basic[..n]) {
+        if fits && self.solve_basis_of(&m, q.as_slice(), warm) {
             return Ok(&self.sol);
         }
+        self.solve_and_remember(m, q, warm)
+    }
+
+    /// The ordinary solve after the remembered basis did not answer; remembers the basis
+    /// of its answer. Out of line, so the warm path keeps a small frame.
+    #[inline(never)]
+    fn solve_and_remember(
+        &mut self,
+        m: DMatrixView<'_, f64>,
+        q: DVectorView<'_, f64>,
+        warm: &mut WarmStart,
+    ) -> Result<&LcpSolution, LcpInputError> {
         self.solve(m, q)?;
         warm.remember(&self.sol);
         Ok(&self.sol)
     }
 
-    /// Solves the complementary basis `basic` of `(M, q)` directly and publishes it if it
-    /// certifies; `false` (nothing published) otherwise, also for `q ≥ 0` and for
-    /// non-finite data, which the ordinary solve handles and reports.
-    fn solve_basis_of(&mut self, m: &DMatrixView<'_, f64>, q: &[f64], basic: &[bool]) -> bool {
+    /// Solves the complementary basis of `warm` (of the size of `q`) for `(M, q)` directly
+    /// and publishes it if it certifies; `false` (nothing published) otherwise, also for
+    /// `q ≥ 0` and for non-finite data, which the ordinary solve handles and reports.
+    fn solve_basis_of(&mut self, m: &DMatrixView<'_, f64>, q: &[f64], warm: &WarmStart) -> bool {
+        const _: () = assert!(MAX_WARM_FIXED == 6);
+        let (basic, index) = (&warm.basic[..q.len()], &warm.index[..]);
         match q.len() {
-            1 => self.basis_fixed::<1>(m, q, basic),
-            2 => self.basis_fixed::<2>(m, q, basic),
-            3 => self.basis_fixed::<3>(m, q, basic),
-            4 => self.basis_fixed::<4>(m, q, basic),
-            5 => self.basis_fixed::<5>(m, q, basic),
-            6 => self.basis_fixed::<6>(m, q, basic),
+            1 => self.basis_fixed::<1>(m, q, basic, index),
+            2 => self.basis_fixed::<2>(m, q, basic, index),
+            3 => self.basis_fixed::<3>(m, q, basic, index),
+            4 => self.basis_fixed::<4>(m, q, basic, index),
+            5 => self.basis_fixed::<5>(m, q, basic, index),
+            6 => self.basis_fixed::<6>(m, q, basic, index),
             // Larger sizes share one copy, with the basis solved in the heap scratch.
-            n => self.basis_core::<0>(n, m, q, basic),
+            n => self.basis_core::<0>(n, m, q, basic, index),
         }
     }
 
@@ -156,19 +214,22 @@ impl LemkeSolver {
         m: &DMatrixView<'_, f64>,
         q: &[f64],
         basic: &[bool],
+        index: &[usize],
     ) -> bool {
-        self.basis_core::<N>(N, m, q, basic)
+        self.basis_core::<N>(N, m, q, basic, index)
     }
 
+    /// The warm path for size `n`, basis `basic` with basic indices `index`. With
+    /// `W = n ≤ MAX_WARM_FIXED` everything but the published answer lives on the stack;
+    /// with `W = 0` the basis is solved in the heap scratch.
     #[inline(always)]
-    /// The warm path for size `n`; with `W = n` the basis is solved on the stack, with
-    /// `W = 0` in the heap scratch.
     fn basis_core<const W: usize>(
         &mut self,
         n: usize,
         m: &DMatrixView<'_, f64>,
         q: &[f64],
         basic: &[bool],
+        index: &[usize],
     ) -> bool {
         let (q, basic) = (&q[..n], &basic[..n]);
         let (mut q_norm, mut q_min, mut q_sum) = (0.0_f64, f64::INFINITY, 0.0);
@@ -181,10 +242,24 @@ impl LemkeSolver {
         if !q_sum.is_finite() || q_min >= 0.0 {
             return false;
         }
-        self.reserve(n);
+        let ld = leading_dim(n);
+        if W == 0 {
+            self.reserve(n);
+        }
         let mref = MatRef::new(m);
-        let parts = self.work.parts(n);
-        let m_norm = tableau::matrix_norm(n, mref, parts.row_sum);
+        // (`n = W` for the sizes compiled on their own: column indices below `W` need no
+        // check.)
+        assert!(mref.n() == n);
+        let m_norm = if W > 0 {
+            let mut row_sum = [0.0; leading_dim(MAX_WARM_FIXED)];
+            let row_sum = &mut row_sum[..ld];
+            for j in 0..n {
+                tableau::add_abs_column(row_sum, &mref.col(j)[..n]);
+            }
+            tableau::norm_of_row_sums(row_sum)
+        } else {
+            tableau::matrix_norm(n, mref, self.work.parts(n).row_sum)
+        };
         if !m_norm.is_finite() {
             return false;
         }
@@ -195,29 +270,21 @@ impl LemkeSolver {
             q_norm,
             rel_tol: self.options.rel_tol,
         };
-        // The basic indices, `M_BB` (row-major) and `−q_B`.
-        let idx = parts.ties;
-        let mut k = 0;
-        for (i, _) in basic.iter().enumerate().filter(|(_, &b)| b) {
-            idx[k] = i;
-            k += 1;
-        }
-        let idx = &idx[..k];
-        let b = &mut self.lu_rhs[..k];
+        // `M_BB` (row-major) and `−q_B`, solved for `z_B` in `b`.
+        let k = index.len();
+        let mut b_local = [0.0; W];
+        let b = if W > 0 {
+            &mut b_local[..k]
+        } else {
+            &mut self.lu_rhs[..k]
+        };
         let solved = if W > 0 {
-            let mut a = [[0.0; W]; W];
-            for ((&i, a_row), b_i) in idx.iter().zip(a.iter_mut()).zip(b.iter_mut()) {
-                for (&j, a_ij) in idx.iter().zip(a_row.iter_mut()) {
-                    *a_ij = p.m(i, j);
-                }
-                *b_i = -q[i];
-            }
-            solve_small(&mut a, b)
+            solve_basis_sized::<W>(&p, index, b)
         } else {
             let a = &mut self.lu[..k * k];
             let mut a_max: f64 = 0.0;
-            for ((&i, a_row), b_i) in idx.iter().zip(a.chunks_exact_mut(k)).zip(b.iter_mut()) {
-                for (&j, a_ij) in idx.iter().zip(a_row.iter_mut()) {
+            for ((&i, a_row), b_i) in index.iter().zip(a.chunks_exact_mut(k)).zip(b.iter_mut()) {
+                for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
                     *a_ij = p.m(i, j);
                     a_max = a_max.max(a_ij.abs());
                 }
@@ -228,22 +295,32 @@ impl LemkeSolver {
         if !solved {
             return false;
         }
-        // z = (z_B, 0); w = M z + q off the basis, 0 on it.
-        let (zs, ws, mz) = (&mut self.zs[..n], &mut self.ws[..n], parts.mz);
-        zs.fill(0.0);
+        // z = (z_B, 0); `M z + q` once, for w (0 on the basis) and the certificate.
+        let (mut z_local, mut w_local) = ([0.0; W], [0.0; W]);
+        let mut mz_local = [0.0; leading_dim(MAX_WARM_FIXED)];
+        let (z, w, mz) = if W > 0 {
+            (&mut z_local[..], &mut w_local[..], &mut mz_local[..ld])
+        } else {
+            let mz = &mut self.work.parts(n).mz[..ld];
+            (&mut self.zs[..n], &mut self.ws[..n], mz)
+        };
+        z.fill(0.0);
         tableau::set_padded(mz, 1.0, q);
-        for (&j, &z_j) in idx.iter().zip(b.iter()) {
-            zs[j] = z_j;
+        let mut z_norm: f64 = 0.0;
+        for (&j, &z_j) in index.iter().zip(b.iter()) {
+            z[j] = z_j;
+            z_norm = max_abs(z_norm, z_j);
             tableau::sub_scaled_padded(mz, -z_j, &mref.col(j)[..n]);
         }
-        for ((w_i, &m_i), &b_i) in ws.iter_mut().zip(mz.iter()).zip(basic) {
+        for ((w_i, &m_i), &b_i) in w.iter_mut().zip(mz.iter()).zip(basic) {
             *w_i = if b_i { 0.0 } else { m_i };
         }
-        let cert = p.certify(zs, ws, mz);
+        let cert = p.measure(z, w, mz, z_norm);
         if !cert.holds() {
             return false;
         }
-        self.commit(n, LcpStatus::Solved, SolveMethod::WarmStart, cert, 0);
+        let method = SolveMethod::WarmStart;
+        self.sol.publish(z, w, LcpStatus::Solved, method, cert, 0);
         true
     }
 }
