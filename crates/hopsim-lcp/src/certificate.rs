@@ -165,3 +165,16 @@ pub(crate) fn max_abs(acc: f64, v: f64) -> f64 {
         acc
     }
 }
+
+/// `(‖q‖_∞, min_i q_i, Σ q_i)` in one pass. The maximum and minimum skip NaN; the sum
+/// does not, so a non-finite sum flags a non-finite entry (or an overflow).
+#[inline(always)]
+pub(crate) fn vector_stats(q: &[f64]) -> (f64, f64, f64) {
+    let (mut norm, mut min, mut sum) = (0.0_f64, f64::INFINITY, 0.0);
+    for &v in q {
+        sum += v;
+        norm = max_abs(norm, v);
+        min = if v < min { v } else { min };
+    }
+    (norm, min, sum)
+}

@@ -380,15 +380,27 @@ pub(crate) fn norm_of_row_sums(row_sum: &[f64]) -> f64 {
     let (mut max4, mut sum4) = ([0.0_f64; 4], [0.0; 4]);
     for s4 in row_sum.chunks_exact(4) {
         for k in 0..4 {
-            max4[k] = if s4[k] > max4[k] { s4[k] } else { max4[k] };
+            max4[k] = lane_max(max4[k], s4[k]);
             sum4[k] += s4[k];
         }
     }
-    let m_norm = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
+    // (The lanes hold no NaN: plain comparisons.)
+    let max2 = [lane_max(max4[0], max4[1]), lane_max(max4[2], max4[3])];
+    let m_norm = lane_max(max2[0], max2[1]);
     if ((sum4[0] + sum4[1]) + (sum4[2] + sum4[3])).is_finite() {
         m_norm
     } else {
         f64::INFINITY
+    }
+}
+
+/// `b` if it exceeds `a`, else `a` (so a NaN `b` is skipped).
+#[inline(always)]
+fn lane_max(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
     }
 }
 

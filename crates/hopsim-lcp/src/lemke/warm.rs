@@ -13,7 +13,7 @@
 //! solve would pick: the one with the previous step's basis, if it still certifies.
 
 use super::LemkeSolver;
-use crate::certificate::{max_abs, MatRef, ProblemRef};
+use crate::certificate::{max_abs, vector_stats, MatRef, ProblemRef};
 use crate::enumerate;
 use crate::tableau::{self, leading_dim};
 use crate::{LcpInputError, LcpSolution, LcpStatus, SolveMethod};
@@ -168,15 +168,23 @@ impl LemkeSolver {
         warm: &mut WarmStart,
     ) -> Result<&LcpSolution, LcpInputError> {
         let n = m.nrows();
-        let fits = n > 0 && warm.n == n && m.ncols() == n && q.len() == n;
-        if fits && self.solve_basis_of(&m, q.as_slice(), warm) {
-            return Ok(&self.sol);
+        if n == 0 || warm.n != n || m.ncols() != n || q.len() != n {
+            return self.solve_and_remember(m, q, warm);
         }
-        self.solve_and_remember(m, q, warm)
+        const _: () = assert!(MAX_WARM_FIXED == 6);
+        match n {
+            1 => self.warm_fixed::<1>(m, q, warm),
+            2 => self.warm_fixed::<2>(m, q, warm),
+            3 => self.warm_fixed::<3>(m, q, warm),
+            4 => self.warm_fixed::<4>(m, q, warm),
+            5 => self.warm_fixed::<5>(m, q, warm),
+            6 => self.warm_fixed::<6>(m, q, warm),
+            _ => self.warm_any(m, q, warm),
+        }
     }
 
     /// The ordinary solve after the remembered basis did not answer; remembers the basis
-    /// of its answer. Out of line, so the warm path keeps a small frame.
+    /// of its answer.
     #[inline(never)]
     fn solve_and_remember(
         &mut self,
@@ -189,56 +197,52 @@ impl LemkeSolver {
         Ok(&self.sol)
     }
 
-    /// Solves the complementary basis of `warm` (of the size of `q`) for `(M, q)` directly
-    /// and publishes it if it certifies; `false` (nothing published) otherwise, also for
-    /// `q ≥ 0` and for non-finite data, which the ordinary solve handles and reports.
-    fn solve_basis_of(&mut self, m: &DMatrixView<'_, f64>, q: &[f64], warm: &WarmStart) -> bool {
-        const _: () = assert!(MAX_WARM_FIXED == 6);
-        let (basic, index) = (&warm.basic[..q.len()], &warm.index[..]);
-        match q.len() {
-            1 => self.basis_fixed::<1>(m, q, basic, index),
-            2 => self.basis_fixed::<2>(m, q, basic, index),
-            3 => self.basis_fixed::<3>(m, q, basic, index),
-            4 => self.basis_fixed::<4>(m, q, basic, index),
-            5 => self.basis_fixed::<5>(m, q, basic, index),
-            6 => self.basis_fixed::<6>(m, q, basic, index),
-            // Larger sizes share one copy, with the basis solved in the heap scratch.
-            n => self.basis_core::<0>(n, m, q, basic, index),
-        }
-    }
-
-    /// [`LemkeSolver::solve_basis_of`] compiled for one small size (fixed trip counts).
+    /// [`LemkeSolver::solve_warm`] compiled for one small size `N` (fixed trip counts), the
+    /// basis solved on the stack.
     #[inline(never)]
-    fn basis_fixed<const N: usize>(
+    fn warm_fixed<const N: usize>(
         &mut self,
-        m: &DMatrixView<'_, f64>,
-        q: &[f64],
-        basic: &[bool],
-        index: &[usize],
-    ) -> bool {
-        self.basis_core::<N>(N, m, q, basic, index)
+        m: DMatrixView<'_, f64>,
+        q: DVectorView<'_, f64>,
+        warm: &mut WarmStart,
+    ) -> Result<&LcpSolution, LcpInputError> {
+        if self.solve_basis::<N>(N, &m, q.as_slice(), warm) {
+            return Ok(&self.sol);
+        }
+        self.solve_and_remember(m, q, warm)
     }
 
-    /// The warm path for size `n`, basis `basic` with basic indices `index`. With
-    /// `W = n ≤ MAX_WARM_FIXED` everything but the published answer lives on the stack;
-    /// with `W = 0` the basis is solved in the heap scratch.
+    /// [`LemkeSolver::solve_warm`] for larger sizes: one copy, the basis solved in the heap
+    /// scratch.
+    #[inline(never)]
+    fn warm_any(
+        &mut self,
+        m: DMatrixView<'_, f64>,
+        q: DVectorView<'_, f64>,
+        warm: &mut WarmStart,
+    ) -> Result<&LcpSolution, LcpInputError> {
+        if self.solve_basis::<0>(q.len(), &m, q.as_slice(), warm) {
+            return Ok(&self.sol);
+        }
+        self.solve_and_remember(m, q, warm)
+    }
+
+    /// Solves the complementary basis of `warm` (of size `n`) for `(M, q)` directly and
+    /// publishes it if it certifies; `false` (nothing published) otherwise, also for
+    /// `q ≥ 0` and for non-finite data, which the ordinary solve handles and reports.
+    /// With `W = n ≤ MAX_WARM_FIXED` everything but the published answer lives on the
+    /// stack; with `W = 0` the basis is solved in the heap scratch.
     #[inline(always)]
-    fn basis_core<const W: usize>(
+    fn solve_basis<const W: usize>(
         &mut self,
         n: usize,
         m: &DMatrixView<'_, f64>,
         q: &[f64],
-        basic: &[bool],
-        index: &[usize],
+        warm: &WarmStart,
     ) -> bool {
+        let (basic, index) = (&warm.basic[..n], &warm.index[..]);
         let (q, basic) = (&q[..n], &basic[..n]);
-        let (mut q_norm, mut q_min, mut q_sum) = (0.0_f64, f64::INFINITY, 0.0);
-        for &v in q {
-            q_norm = q_norm.max(v.abs());
-            q_min = q_min.min(v);
-            q_sum += v;
-        }
-        // `max` and `min` skip NaN; the sum does not.
+        let (q_norm, q_min, q_sum) = vector_stats(q);
         if !q_sum.is_finite() || q_min >= 0.0 {
             return false;
         }
