@@ -73,22 +73,21 @@ impl WarmStart {
 /// the enumeration fallback).
 const SINGULAR: f64 = 1e-13;
 
-/// Gaussian elimination with partial pivoting of the leading `k × k` block of `a`
-/// (`k = b.len() ≤ W`); `b` becomes the solution. False when a pivot is at most
-/// [`SINGULAR`] times the block's largest entry, or not finite.
+/// Gaussian elimination with partial pivoting of `a x = b` (`K × K`, compiled per `K`:
+/// fixed trip counts); `b` becomes the solution. False when a pivot is at most
+/// [`SINGULAR`] times the largest entry of `a`, or not finite.
 #[inline(always)]
-fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
-    let k = b.len();
+fn solve_small<const K: usize>(a: &mut [[f64; K]; K], b: &mut [f64; K]) -> bool {
     let mut a_max: f64 = 0.0;
-    for row in a.iter().take(k) {
-        for v in row.iter().take(k) {
+    for row in a.iter() {
+        for v in row {
             a_max = a_max.max(v.abs());
         }
     }
     let tiny = SINGULAR * a_max;
-    for col in 0..k {
+    for col in 0..K {
         let mut piv = col;
-        for r in col + 1..k {
+        for r in col + 1..K {
             if a[r][col].abs() > a[piv][col].abs() {
                 piv = r;
             }
@@ -100,18 +99,18 @@ fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
         a.swap(piv, col);
         b.swap(piv, col);
         let (upper, lower) = a.split_at_mut(col + 1);
-        let pivot_row = &upper[col][col..k];
-        for (r, row) in lower[..k - col - 1].iter_mut().enumerate() {
+        let pivot_row = &upper[col][col..];
+        for (r, row) in lower.iter_mut().enumerate() {
             let f = row[col] / d;
-            for (x, p) in row[col..k].iter_mut().zip(pivot_row) {
+            for (x, p) in row[col..].iter_mut().zip(pivot_row) {
                 *x -= f * p;
             }
             b[col + 1 + r] -= f * b[col];
         }
     }
-    for r in (0..k).rev() {
+    for r in (0..K).rev() {
         let mut acc = b[r];
-        for c in r + 1..k {
+        for c in r + 1..K {
             acc -= a[r][c] * b[c];
         }
         b[r] = acc / a[r][r];
@@ -127,7 +126,8 @@ const MAX_WARM_FIXED: usize = 6;
 /// with [`solve_small`] compiled for `K` (fixed trip counts); the solution goes to `b`.
 #[inline(always)]
 fn solve_basis_of_size<const K: usize>(p: &ProblemRef<'_>, index: &[usize], b: &mut [f64]) -> bool {
-    let (index, b) = (&index[..K], &mut b[..K]);
+    let index = &index[..K];
+    let b: &mut [f64; K] = (&mut b[..K]).try_into().expect("K entries");
     let mut a = [[0.0; K]; K];
     for ((&i, a_row), b_i) in index.iter().zip(a.iter_mut()).zip(b.iter_mut()) {
         for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
