@@ -173,13 +173,13 @@ impl LemkeSolver {
         }
         const _: () = assert!(MAX_WARM_FIXED == 6);
         match n {
-            1 => self.warm_fixed::<1>(m, q, warm),
-            2 => self.warm_fixed::<2>(m, q, warm),
-            3 => self.warm_fixed::<3>(m, q, warm),
-            4 => self.warm_fixed::<4>(m, q, warm),
-            5 => self.warm_fixed::<5>(m, q, warm),
-            6 => self.warm_fixed::<6>(m, q, warm),
-            _ => self.warm_any(m, q, warm),
+            1 => self.warm_sized::<1>(m, q, warm),
+            2 => self.warm_sized::<2>(m, q, warm),
+            3 => self.warm_sized::<3>(m, q, warm),
+            4 => self.warm_sized::<4>(m, q, warm),
+            5 => self.warm_sized::<5>(m, q, warm),
+            6 => self.warm_sized::<6>(m, q, warm),
+            _ => self.warm_sized::<0>(m, q, warm),
         }
     }
 
@@ -197,31 +197,18 @@ impl LemkeSolver {
         Ok(&self.sol)
     }
 
-    /// [`LemkeSolver::solve_warm`] compiled for one small size `N` (fixed trip counts), the
-    /// basis solved on the stack.
+    /// [`LemkeSolver::solve_warm`] compiled for each size `n = W ≤
+    /// MAX_WARM_FIXED` (fixed trip counts, the basis solved on the stack) and once with
+    /// `W = 0` for larger sizes (the basis solved in the heap scratch).
     #[inline(never)]
-    fn warm_fixed<const N: usize>(
+    fn warm_sized<const W: usize>(
         &mut self,
         m: DMatrixView<'_, f64>,
         q: DVectorView<'_, f64>,
         warm: &mut WarmStart,
     ) -> Result<&LcpSolution, LcpInputError> {
-        if self.solve_basis::<N>(N, &m, q.as_slice(), warm) {
-            return Ok(&self.sol);
-        }
-        self.solve_and_remember(m, q, warm)
-    }
-
-    /// [`LemkeSolver::solve_warm`] for larger sizes: one copy, the basis solved in the heap
-    /// scratch.
-    #[inline(never)]
-    fn warm_any(
-        &mut self,
-        m: DMatrixView<'_, f64>,
-        q: DVectorView<'_, f64>,
-        warm: &mut WarmStart,
-    ) -> Result<&LcpSolution, LcpInputError> {
-        if self.solve_basis::<0>(q.len(), &m, q.as_slice(), warm) {
+        let n = if W > 0 { W } else { q.len() };
+        if self.solve_basis::<W>(n, &m, q.as_slice(), warm) {
             return Ok(&self.sol);
         }
         self.solve_and_remember(m, q, warm)
@@ -230,8 +217,8 @@ impl LemkeSolver {
     /// Solves the complementary basis of `warm` (of size `n`) for `(M, q)` directly and
     /// publishes it if it certifies; `false` (nothing published) otherwise, also for
     /// `q ≥ 0` and for non-finite data, which the ordinary solve handles and reports.
-    /// With `W = n ≤ MAX_WARM_FIXED` everything but the published answer lives on the
-    /// stack; with `W = 0` the basis is solved in the heap scratch.
+    /// With `W = n` everything but the published answer lives on the stack; with `W = 0`
+    /// the basis is solved in the heap scratch.
     #[inline(always)]
     fn solve_basis<const W: usize>(
         &mut self,
