@@ -53,6 +53,12 @@ impl<'a> MatRef<'a> {
         }
     }
 
+    /// The size `n`.
+    #[inline(always)]
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
     /// Column `j` (`n` entries).
     #[inline(always)]
     pub fn col(&self, j: usize) -> &'a [f64] {
@@ -93,12 +99,21 @@ impl ProblemRef<'_> {
         set_padded(mz, 1.0, self.q);
         let mut z_norm: f64 = 0.0;
         for (j, &zj) in z.iter().enumerate() {
-            let a = zj.abs();
-            z_norm = if a > z_norm { a } else { z_norm };
+            z_norm = max_abs(z_norm, zj);
             if zj != 0.0 {
                 sub_scaled_padded(mz, -zj, &self.m.col(j)[..n]);
             }
         }
+        self.measure(z, w, mz, z_norm)
+    }
+
+    /// Certificate of `(z, w)` given `mz = M z + q` (the columns of zero `z_j` may be
+    /// left out: that changes at most the sign of a zero) and `z_norm = ‖z‖_∞` (see
+    /// [`max_abs`]).
+    #[inline(always)]
+    pub fn measure(&self, z: &[f64], w: &[f64], mz: &[f64], z_norm: f64) -> Certificate {
+        let n = self.q.len();
+        let (z, w, mz) = (&z[..n], &w[..n], &mz[..n]);
         let mut complementarity: f64 = 0.0;
         let mut most_negative: f64 = 0.0;
         let mut residual: f64 = 0.0;
@@ -137,4 +152,29 @@ impl ProblemRef<'_> {
             tolerance: self.rel_tol * scale,
         }
     }
+}
+
+/// `max(acc, |v|)` as the certificate accumulates `‖z‖_∞` (a NaN `v` is skipped; the
+/// certificate's sum exposes it).
+#[inline(always)]
+pub(crate) fn max_abs(acc: f64, v: f64) -> f64 {
+    let a = v.abs();
+    if a > acc {
+        a
+    } else {
+        acc
+    }
+}
+
+/// `(‖q‖_∞, min_i q_i, Σ q_i)` in one pass. The maximum and minimum skip NaN; the sum
+/// does not, so a non-finite sum flags a non-finite entry (or an overflow).
+#[inline(always)]
+pub(crate) fn vector_stats(q: &[f64]) -> (f64, f64, f64) {
+    let (mut norm, mut min, mut sum) = (0.0_f64, f64::INFINITY, 0.0);
+    for &v in q {
+        sum += v;
+        norm = max_abs(norm, v);
+        min = if v < min { v } else { min };
+    }
+    (norm, min, sum)
 }

@@ -9,6 +9,7 @@
 use crate::certificate::{MatRef, ProblemRef};
 use crate::enumerate::{self, BasisScratch};
 use crate::primary::{self, End, Primary, Settings};
+use crate::solution::set_len;
 use crate::tableau::{self, Ending, Scales, Work};
 use crate::{Certificate, LcpInputError, LcpProblem, LcpSolution, LcpStatus, SolveMethod};
 use nalgebra::{DMatrix, DMatrixView, DVector, DVectorView};
@@ -362,14 +363,8 @@ impl LemkeSolver {
         certificate: Certificate,
         pivots: usize,
     ) {
-        set_len(&mut self.sol.z, n);
-        set_len(&mut self.sol.w, n);
-        self.sol.z.as_mut_slice().copy_from_slice(&self.zs[..n]);
-        self.sol.w.as_mut_slice().copy_from_slice(&self.ws[..n]);
-        self.sol.status = status;
-        self.sol.method = method;
-        self.sol.certificate = certificate;
-        self.sol.pivots = pivots;
+        let (z, w) = (&self.zs[..n], &self.ws[..n]);
+        self.sol.publish(z, w, status, method, certificate, pivots);
     }
 }
 
@@ -388,22 +383,6 @@ fn alternate_covering(d: &mut [f64], q: &[f64], attempt: usize, user: bool) {
             _ => 1.0 + n as f64 * qi.abs() / q_norm,
         };
     }
-}
-
-/// Resizes `v` to `n` entries without allocating when its capacity suffices.
-#[inline]
-fn set_len(v: &mut DVector<f64>, n: usize) {
-    if v.len() != n {
-        resize(v, n);
-    }
-}
-
-#[cold]
-#[inline(never)]
-fn resize(v: &mut DVector<f64>, n: usize) {
-    let mut data: Vec<f64> = std::mem::replace(v, DVector::zeros(0)).data.into();
-    data.resize(n, 0.0);
-    *v = DVector::from_vec(data);
 }
 
 /// One-shot convenience: `LemkeSolver::new(Default::default()).solve(..).cloned()`.

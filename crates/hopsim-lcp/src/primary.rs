@@ -4,7 +4,7 @@
 //! time). AVX2 only widens the vectors: no fused multiply-add, so every path gives
 //! bit-identical results.
 
-use crate::certificate::{MatRef, ProblemRef};
+use crate::certificate::{vector_stats, MatRef, ProblemRef};
 use crate::tableau::{self, inv_pow2_floor, pow2_floor, Ending, Scales, Work, MAX_FIXED};
 use crate::{Certificate, LcpInputError};
 
@@ -160,15 +160,7 @@ fn core(
 ) -> Result<(), LcpInputError> {
     let q = &q[..n];
     let (z, w) = (&mut z[..n], &mut w[..n]);
-    let mut q_norm: f64 = 0.0;
-    let mut q_min = f64::INFINITY;
-    let mut q_sum = 0.0;
-    for &v in q {
-        q_sum += v;
-        let a = v.abs();
-        q_norm = if a > q_norm { a } else { q_norm };
-        q_min = if v < q_min { v } else { q_min };
-    }
+    let (mut q_norm, q_min, q_sum) = vector_stats(q);
     if !q_sum.is_finite() {
         if let Some(index) = q.iter().position(|v| !v.is_finite()) {
             return Err(LcpInputError::NonFinite { what: "q", index });

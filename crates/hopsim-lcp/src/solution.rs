@@ -99,4 +99,43 @@ impl LcpSolution {
             method: SolveMethod::Trivial,
         }
     }
+
+    /// Publishes `z`, `w` (equal lengths) and the rest; allocates nothing when the vectors'
+    /// capacity holds them.
+    #[inline(always)]
+    pub(crate) fn publish(
+        &mut self,
+        z: &[f64],
+        w: &[f64],
+        status: LcpStatus,
+        method: SolveMethod,
+        certificate: Certificate,
+        pivots: usize,
+    ) {
+        let n = z.len();
+        set_len(&mut self.z, n);
+        set_len(&mut self.w, n);
+        self.z.as_mut_slice().copy_from_slice(z);
+        self.w.as_mut_slice().copy_from_slice(&w[..n]);
+        self.status = status;
+        self.method = method;
+        self.certificate = certificate;
+        self.pivots = pivots;
+    }
+}
+
+/// Resizes `v` to `n` entries without allocating when its capacity suffices.
+#[inline]
+pub(crate) fn set_len(v: &mut DVector<f64>, n: usize) {
+    if v.len() != n {
+        resize(v, n);
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn resize(v: &mut DVector<f64>, n: usize) {
+    let mut data: Vec<f64> = std::mem::replace(v, DVector::zeros(0)).data.into();
+    data.resize(n, 0.0);
+    *v = DVector::from_vec(data);
 }

@@ -344,7 +344,7 @@ impl Work {
 }
 
 /// `‖M‖_∞`, read in place; a non-finite result means `M` has a non-finite entry (or row
-/// sums overflow). `row_sum` is scratch of length `ld`.
+/// sums overflow). `row_sum` is scratch of length `ld`, used only when `n > MAX_FIXED`.
 #[inline(always)]
 pub(crate) fn matrix_norm(n: usize, m: MatRef<'_>, row_sum: &mut [f64]) -> f64 {
     let ld = leading_dim(n);
@@ -357,25 +357,50 @@ pub(crate) fn matrix_norm(n: usize, m: MatRef<'_>, row_sum: &mut [f64]) -> f64 {
     };
     row_sum.fill(0.0);
     for j in 0..n {
-        let col = &m.col(j)[..n];
-        for (g, s4) in row_sum.chunks_exact_mut(4).enumerate() {
-            let v = map_group(col, g, |k, c| s4[k] + c.abs());
-            s4.copy_from_slice(&v);
-        }
+        add_abs_column(row_sum, &m.col(j)[..n]);
     }
+    norm_of_row_sums(row_sum)
+}
+
+/// `row_sum ← row_sum + |col|` entrywise (`row_sum` padded to a multiple of 4, `col` not),
+/// in whole groups.
+#[inline(always)]
+pub(crate) fn add_abs_column(row_sum: &mut [f64], col: &[f64]) {
+    for (g, s4) in row_sum.chunks_exact_mut(4).enumerate() {
+        let v = map_group(col, g, |k, c| s4[k] + c.abs());
+        s4.copy_from_slice(&v);
+    }
+}
+
+/// `‖M‖_∞` from the absolute row sums of `M` (padded with zeros to a multiple of 4):
+/// infinite if one of them is not finite or their sum overflows.
+#[inline(always)]
+pub(crate) fn norm_of_row_sums(row_sum: &[f64]) -> f64 {
     // Four lanes: independent chains. The sum exposes NaN and ∞ (max skips NaN).
     let (mut max4, mut sum4) = ([0.0_f64; 4], [0.0; 4]);
     for s4 in row_sum.chunks_exact(4) {
         for k in 0..4 {
-            max4[k] = if s4[k] > max4[k] { s4[k] } else { max4[k] };
+            max4[k] = lane_max(max4[k], s4[k]);
             sum4[k] += s4[k];
         }
     }
-    let m_norm = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
+    // (The lanes hold no NaN: plain comparisons.)
+    let max2 = [lane_max(max4[0], max4[1]), lane_max(max4[2], max4[3])];
+    let m_norm = lane_max(max2[0], max2[1]);
     if ((sum4[0] + sum4[1]) + (sum4[2] + sum4[3])).is_finite() {
         m_norm
     } else {
         f64::INFINITY
+    }
+}
+
+/// `b` if it exceeds `a`, else `a` (so a NaN `b` is skipped).
+#[inline(always)]
+fn lane_max(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
     }
 }
 

@@ -123,3 +123,30 @@ fn bad_data_is_an_error_and_failures_are_not_remembered() {
     assert_ne!(sol.status, LcpStatus::Solved);
     assert!(warm.basis().is_none());
 }
+
+/// A warm attempt publishes nothing unless its basis certifies: when the remembered basis
+/// fails and the ordinary solve then reports an error (here a covering vector of the wrong
+/// length, set after the basis was remembered), the last answer stays as it was.
+#[test]
+fn a_failed_warm_attempt_leaves_the_last_answer() {
+    let m = dmatrix![2.0, 1.0; 1.0, 2.0];
+    let mut solver = LemkeSolver::default();
+    let mut warm = WarmStart::default();
+    // z = (1/2, 0), w = (0, 3/2): the basis {z_1}.
+    let q = dvector![-1.0, 1.0];
+    let before = solver
+        .solve_warm(m.as_view(), q.as_view(), &mut warm)
+        .unwrap()
+        .clone();
+    assert_eq!(warm.basis(), Some(&[true, false][..]));
+    let mut options = solver.options().clone();
+    options.covering = Some(vec![1.0]);
+    solver.set_options(options);
+    // The basis {z_1} gives z_1 = 1 and w_2 = z_1 − 2 = −1: it does not certify.
+    let q = dvector![-2.0, -2.0];
+    assert!(matches!(
+        solver.solve_warm(m.as_view(), q.as_view(), &mut warm),
+        Err(LcpInputError::CoveringLength { n: 2, len: 1 })
+    ));
+    assert_eq!(solver.solution(), &before);
+}

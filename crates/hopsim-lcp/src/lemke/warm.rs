@@ -13,9 +13,9 @@
 //! solve would pick: the one with the previous step's basis, if it still certifies.
 
 use super::LemkeSolver;
-use crate::certificate::{MatRef, ProblemRef};
+use crate::certificate::{max_abs, vector_stats, MatRef, ProblemRef};
 use crate::enumerate;
-use crate::tableau;
+use crate::tableau::{self, leading_dim};
 use crate::{LcpInputError, LcpSolution, LcpStatus, SolveMethod};
 use nalgebra::{DMatrixView, DVectorView};
 
@@ -24,6 +24,8 @@ use nalgebra::{DMatrixView, DVectorView};
 #[derive(Debug, Clone, Default)]
 pub struct WarmStart {
     basic: Vec<bool>,
+    /// The indices `i` of the basic `z_i`, increasing.
+    index: Vec<usize>,
     /// Size of the remembered basis (0: none).
     n: usize,
 }
@@ -33,6 +35,7 @@ impl WarmStart {
     pub fn with_capacity(capacity: usize) -> Self {
         WarmStart {
             basic: Vec::with_capacity(capacity),
+            index: Vec::with_capacity(capacity),
             n: 0,
         }
     }
@@ -54,11 +57,15 @@ impl WarmStart {
             self.forget();
             return;
         }
-        let n = sol.z.len();
         self.basic.clear();
-        self.basic
-            .extend(sol.z.iter().zip(sol.w.iter()).map(|(z, w)| z > w));
-        self.n = n;
+        self.index.clear();
+        for (i, (z, w)) in sol.z.iter().zip(sol.w.iter()).enumerate() {
+            self.basic.push(z > w);
+            if z > w {
+                self.index.push(i);
+            }
+        }
+        self.n = sol.z.len();
     }
 }
 
@@ -66,22 +73,21 @@ impl WarmStart {
 /// the enumeration fallback).
 const SINGULAR: f64 = 1e-13;
 
-/// Gaussian elimination with partial pivoting of the leading `k × k` block of `a`
-/// (`k = b.len() ≤ W`); `b` becomes the solution. False when a pivot is at most
-/// [`SINGULAR`] times the block's largest entry, or not finite.
+/// Gaussian elimination with partial pivoting of `a x = b` (`K × K`, compiled per `K`:
+/// fixed trip counts); `b` becomes the solution. False when a pivot is at most
+/// [`SINGULAR`] times the largest entry of `a`, or not finite.
 #[inline(always)]
-fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
-    let k = b.len();
+fn solve_small<const K: usize>(a: &mut [[f64; K]; K], b: &mut [f64; K]) -> bool {
     let mut a_max: f64 = 0.0;
-    for row in a.iter().take(k) {
-        for v in row.iter().take(k) {
+    for row in a.iter() {
+        for v in row {
             a_max = a_max.max(v.abs());
         }
     }
     let tiny = SINGULAR * a_max;
-    for col in 0..k {
+    for col in 0..K {
         let mut piv = col;
-        for r in col + 1..k {
+        for r in col + 1..K {
             if a[r][col].abs() > a[piv][col].abs() {
                 piv = r;
             }
@@ -93,23 +99,61 @@ fn solve_small<const W: usize>(a: &mut [[f64; W]; W], b: &mut [f64]) -> bool {
         a.swap(piv, col);
         b.swap(piv, col);
         let (upper, lower) = a.split_at_mut(col + 1);
-        let pivot_row = &upper[col][col..k];
-        for (r, row) in lower[..k - col - 1].iter_mut().enumerate() {
+        let pivot_row = &upper[col][col..];
+        for (r, row) in lower.iter_mut().enumerate() {
             let f = row[col] / d;
-            for (x, p) in row[col..k].iter_mut().zip(pivot_row) {
+            for (x, p) in row[col..].iter_mut().zip(pivot_row) {
                 *x -= f * p;
             }
             b[col + 1 + r] -= f * b[col];
         }
     }
-    for r in (0..k).rev() {
+    for r in (0..K).rev() {
         let mut acc = b[r];
-        for c in r + 1..k {
+        for c in r + 1..K {
             acc -= a[r][c] * b[c];
         }
         b[r] = acc / a[r][r];
     }
     true
+}
+
+/// Largest size whose warm path is compiled on its own, with the basis solved on the
+/// stack.
+const MAX_WARM_FIXED: usize = 6;
+
+/// Gathers `M_BB` and `−q_B` of the `K` basic indices `index` and solves them on the stack
+/// with [`solve_small`] compiled for `K` (fixed trip counts); the solution goes to `b`.
+#[inline(always)]
+fn solve_basis_of_size<const K: usize>(p: &ProblemRef<'_>, index: &[usize], b: &mut [f64]) -> bool {
+    let index = &index[..K];
+    let b: &mut [f64; K] = (&mut b[..K]).try_into().expect("K entries");
+    let mut a = [[0.0; K]; K];
+    for ((&i, a_row), b_i) in index.iter().zip(a.iter_mut()).zip(b.iter_mut()) {
+        for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
+            *a_ij = p.m(i, j);
+        }
+        *b_i = -p.q[i];
+    }
+    solve_small(&mut a, b)
+}
+
+/// [`solve_basis_of_size`] for the size of `index`, which is at most `W ≤
+/// MAX_WARM_FIXED`.
+#[inline(always)]
+fn solve_basis_sized<const W: usize>(p: &ProblemRef<'_>, index: &[usize], b: &mut [f64]) -> bool {
+    const _: () = assert!(MAX_WARM_FIXED == 6);
+    match index.len() {
+        0 => true,
+        1 => solve_basis_of_size::<1>(p, index, b),
+        2 if W >= 2 => solve_basis_of_size::<2>(p, index, b),
+        3 if W >= 3 => solve_basis_of_size::<3>(p, index, b),
+        4 if W >= 4 => solve_basis_of_size::<4>(p, index, b),
+        5 if W >= 5 => solve_basis_of_size::<5>(p, index, b),
+        6 if W >= 6 => solve_basis_of_size::<6>(p, index, b),
+        // More basic indices than the size: not a basis of this problem.
+        _ => false,
+    }
 }
 
 impl LemkeSolver {
@@ -124,67 +168,89 @@ impl LemkeSolver {
         warm: &mut WarmStart,
     ) -> Result<&LcpSolution, LcpInputError> {
         let n = m.nrows();
-        let fits = n > 0 && warm.n == n && m.ncols() == n && q.len() == n;
-        if fits && self.solve_basis_of(&m, q.as_slice(), &warm.basic[..n]) {
-            return Ok(&self.sol);
+        if n == 0 || warm.n != n || m.ncols() != n || q.len() != n {
+            return self.solve_and_remember(m, q, warm);
         }
+        const _: () = assert!(MAX_WARM_FIXED == 6);
+        match n {
+            1 => self.warm_sized::<1>(m, q, warm),
+            2 => self.warm_sized::<2>(m, q, warm),
+            3 => self.warm_sized::<3>(m, q, warm),
+            4 => self.warm_sized::<4>(m, q, warm),
+            5 => self.warm_sized::<5>(m, q, warm),
+            6 => self.warm_sized::<6>(m, q, warm),
+            _ => self.warm_sized::<0>(m, q, warm),
+        }
+    }
+
+    /// The ordinary solve after the remembered basis did not answer; remembers the basis
+    /// of its answer.
+    #[inline(never)]
+    fn solve_and_remember(
+        &mut self,
+        m: DMatrixView<'_, f64>,
+        q: DVectorView<'_, f64>,
+        warm: &mut WarmStart,
+    ) -> Result<&LcpSolution, LcpInputError> {
         self.solve(m, q)?;
         warm.remember(&self.sol);
         Ok(&self.sol)
     }
 
-    /// Solves the complementary basis `basic` of `(M, q)` directly and publishes it if it
-    /// certifies; `false` (nothing published) otherwise, also for `q ≥ 0` and for
-    /// non-finite data, which the ordinary solve handles and reports.
-    fn solve_basis_of(&mut self, m: &DMatrixView<'_, f64>, q: &[f64], basic: &[bool]) -> bool {
-        match q.len() {
-            1 => self.basis_fixed::<1>(m, q, basic),
-            2 => self.basis_fixed::<2>(m, q, basic),
-            3 => self.basis_fixed::<3>(m, q, basic),
-            4 => self.basis_fixed::<4>(m, q, basic),
-            5 => self.basis_fixed::<5>(m, q, basic),
-            6 => self.basis_fixed::<6>(m, q, basic),
-            // Larger sizes share one copy, with the basis solved in the heap scratch.
-            n => self.basis_core::<0>(n, m, q, basic),
-        }
-    }
-
-    /// [`LemkeSolver::solve_basis_of`] compiled for one small size (fixed trip counts).
+    /// [`LemkeSolver::solve_warm`] compiled for each size `n = W ≤
+    /// MAX_WARM_FIXED` (fixed trip counts, the basis solved on the stack) and once with
+    /// `W = 0` for larger sizes (the basis solved in the heap scratch).
     #[inline(never)]
-    fn basis_fixed<const N: usize>(
+    fn warm_sized<const W: usize>(
         &mut self,
-        m: &DMatrixView<'_, f64>,
-        q: &[f64],
-        basic: &[bool],
-    ) -> bool {
-        self.basis_core::<N>(N, m, q, basic)
+        m: DMatrixView<'_, f64>,
+        q: DVectorView<'_, f64>,
+        warm: &mut WarmStart,
+    ) -> Result<&LcpSolution, LcpInputError> {
+        let n = if W > 0 { W } else { q.len() };
+        if self.solve_basis::<W>(n, &m, q.as_slice(), warm) {
+            return Ok(&self.sol);
+        }
+        self.solve_and_remember(m, q, warm)
     }
 
+    /// Solves the complementary basis of `warm` (of size `n`) for `(M, q)` directly and
+    /// publishes it if it certifies; `false` (nothing published) otherwise, also for
+    /// `q ≥ 0` and for non-finite data, which the ordinary solve handles and reports.
+    /// With `W = n` everything but the published answer lives on the stack; with `W = 0`
+    /// the basis is solved in the heap scratch.
     #[inline(always)]
-    /// The warm path for size `n`; with `W = n` the basis is solved on the stack, with
-    /// `W = 0` in the heap scratch.
-    fn basis_core<const W: usize>(
+    fn solve_basis<const W: usize>(
         &mut self,
         n: usize,
         m: &DMatrixView<'_, f64>,
         q: &[f64],
-        basic: &[bool],
+        warm: &WarmStart,
     ) -> bool {
+        let (basic, index) = (&warm.basic[..n], &warm.index[..]);
         let (q, basic) = (&q[..n], &basic[..n]);
-        let (mut q_norm, mut q_min, mut q_sum) = (0.0_f64, f64::INFINITY, 0.0);
-        for &v in q {
-            q_norm = q_norm.max(v.abs());
-            q_min = q_min.min(v);
-            q_sum += v;
-        }
-        // `max` and `min` skip NaN; the sum does not.
+        let (q_norm, q_min, q_sum) = vector_stats(q);
         if !q_sum.is_finite() || q_min >= 0.0 {
             return false;
         }
-        self.reserve(n);
+        let ld = leading_dim(n);
+        if W == 0 {
+            self.reserve(n);
+        }
         let mref = MatRef::new(m);
-        let parts = self.work.parts(n);
-        let m_norm = tableau::matrix_norm(n, mref, parts.row_sum);
+        // (`n = W` for the sizes compiled on their own: column indices below `W` need no
+        // check.)
+        assert!(mref.n() == n);
+        let m_norm = if W > 0 {
+            let mut row_sum = [0.0; leading_dim(MAX_WARM_FIXED)];
+            let row_sum = &mut row_sum[..ld];
+            for j in 0..n {
+                tableau::add_abs_column(row_sum, &mref.col(j)[..n]);
+            }
+            tableau::norm_of_row_sums(row_sum)
+        } else {
+            tableau::matrix_norm(n, mref, self.work.parts(n).row_sum)
+        };
         if !m_norm.is_finite() {
             return false;
         }
@@ -195,29 +261,21 @@ impl LemkeSolver {
             q_norm,
             rel_tol: self.options.rel_tol,
         };
-        // The basic indices, `M_BB` (row-major) and `−q_B`.
-        let idx = parts.ties;
-        let mut k = 0;
-        for (i, _) in basic.iter().enumerate().filter(|(_, &b)| b) {
-            idx[k] = i;
-            k += 1;
-        }
-        let idx = &idx[..k];
-        let b = &mut self.lu_rhs[..k];
+        // `M_BB` (row-major) and `−q_B`, solved for `z_B` in `b`.
+        let k = index.len();
+        let mut b_local = [0.0; W];
+        let b = if W > 0 {
+            &mut b_local[..k]
+        } else {
+            &mut self.lu_rhs[..k]
+        };
         let solved = if W > 0 {
-            let mut a = [[0.0; W]; W];
-            for ((&i, a_row), b_i) in idx.iter().zip(a.iter_mut()).zip(b.iter_mut()) {
-                for (&j, a_ij) in idx.iter().zip(a_row.iter_mut()) {
-                    *a_ij = p.m(i, j);
-                }
-                *b_i = -q[i];
-            }
-            solve_small(&mut a, b)
+            solve_basis_sized::<W>(&p, index, b)
         } else {
             let a = &mut self.lu[..k * k];
             let mut a_max: f64 = 0.0;
-            for ((&i, a_row), b_i) in idx.iter().zip(a.chunks_exact_mut(k)).zip(b.iter_mut()) {
-                for (&j, a_ij) in idx.iter().zip(a_row.iter_mut()) {
+            for ((&i, a_row), b_i) in index.iter().zip(a.chunks_exact_mut(k)).zip(b.iter_mut()) {
+                for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
                     *a_ij = p.m(i, j);
                     a_max = a_max.max(a_ij.abs());
                 }
@@ -228,22 +286,32 @@ impl LemkeSolver {
         if !solved {
             return false;
         }
-        // z = (z_B, 0); w = M z + q off the basis, 0 on it.
-        let (zs, ws, mz) = (&mut self.zs[..n], &mut self.ws[..n], parts.mz);
-        zs.fill(0.0);
+        // z = (z_B, 0); `M z + q` once, for w (0 on the basis) and the certificate.
+        let (mut z_local, mut w_local) = ([0.0; W], [0.0; W]);
+        let mut mz_local = [0.0; leading_dim(MAX_WARM_FIXED)];
+        let (z, w, mz) = if W > 0 {
+            (&mut z_local[..], &mut w_local[..], &mut mz_local[..ld])
+        } else {
+            let mz = &mut self.work.parts(n).mz[..ld];
+            (&mut self.zs[..n], &mut self.ws[..n], mz)
+        };
+        z.fill(0.0);
         tableau::set_padded(mz, 1.0, q);
-        for (&j, &z_j) in idx.iter().zip(b.iter()) {
-            zs[j] = z_j;
+        let mut z_norm: f64 = 0.0;
+        for (&j, &z_j) in index.iter().zip(b.iter()) {
+            z[j] = z_j;
+            z_norm = max_abs(z_norm, z_j);
             tableau::sub_scaled_padded(mz, -z_j, &mref.col(j)[..n]);
         }
-        for ((w_i, &m_i), &b_i) in ws.iter_mut().zip(mz.iter()).zip(basic) {
+        for ((w_i, &m_i), &b_i) in w.iter_mut().zip(mz.iter()).zip(basic) {
             *w_i = if b_i { 0.0 } else { m_i };
         }
-        let cert = p.certify(zs, ws, mz);
+        let cert = p.measure(z, w, mz, z_norm);
         if !cert.holds() {
             return false;
         }
-        self.commit(n, LcpStatus::Solved, SolveMethod::WarmStart, cert, 0);
+        let method = SolveMethod::WarmStart;
+        self.sol.publish(z, w, LcpStatus::Solved, method, cert, 0);
         true
     }
 }
