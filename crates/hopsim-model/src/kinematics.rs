@@ -61,6 +61,9 @@ pub struct Kinematics {
     rotation: Vec<Rotation>,
     /// Whether body `b`'s rotation is needed (shapes, springs, offsets on it).
     needs_rotation: Vec<bool>,
+    /// Whether body `b` pivots at its parent's centre of mass, which is also its own
+    /// (a revolute joint with zero pivot and centre-of-mass offsets, as Robbit's flywheel).
+    centred: Vec<bool>,
     /// Row-major `3B × n`: rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`.
     jacobian: Vec<f64>,
     /// Sorted columns of the structurally non-zero entries of Jacobian row `r`:
@@ -106,6 +109,17 @@ impl Kinematics {
                 }
             }
         }
+        let centred = model
+            .bodies
+            .iter()
+            .map(|body| {
+                body.joint.as_ref().is_some_and(|j| {
+                    matches!(j.kind, JointKind::Revolute)
+                        && is_zero(j.pivot_in_parent)
+                        && is_zero(j.com_in_child)
+                })
+            })
+            .collect();
         let (pattern, pattern_start, jacobian_constant) = jacobian_pattern(model);
         let nan = Rotation {
             sin: f64::NAN,
@@ -119,6 +133,7 @@ impl Kinematics {
             dof: model.dof(),
             rotation: vec![nan; nb],
             needs_rotation,
+            centred,
             jacobian: vec![0.0; 3 * nb * model.dof()],
             pattern,
             pattern_start,
@@ -202,10 +217,17 @@ impl Kinematics {
                     if self.needs_rotation[b] {
                         self.rotation[b] = Rotation::new(angle);
                     }
-                    let r_pivot = rotated(p_rotation, joint.pivot_in_parent);
-                    let r_com = rotated(self.rotation[b], joint.com_in_child);
+                    let centred = self.centred[b];
+                    let (r_pivot, r_com) = if centred {
+                        (Vec2::zeros(), Vec2::zeros())
+                    } else {
+                        (
+                            rotated(p_rotation, joint.pivot_in_parent),
+                            rotated(self.rotation[b], joint.com_in_child),
+                        )
+                    };
                     let (lp, lc) = (perp(r_pivot), perp(r_com));
-                    if is_zero(joint.pivot_in_parent) && is_zero(joint.com_in_child) {
+                    if centred {
                         // Pivoting at the parent's centre of mass, which is its own.
                         self.position[b] = p_position;
                         self.velocity[b] = p_velocity;

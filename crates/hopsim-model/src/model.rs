@@ -424,7 +424,9 @@ impl Model {
     }
 
     /// [`Model::forces`] and [`Model::damping_forces`] in one pass over slices of length
-    /// `n`: `h = applied + conservative + damping`, `damping` alone.
+    /// `n`: `h = applied + conservative + damping`, `damping` alone. Inlined, so a caller
+    /// whose slices have a length known when compiling copies and sums them in place.
+    #[inline]
     pub fn forces_split(
         &self,
         kinematics: &Kinematics,

@@ -444,11 +444,12 @@ impl Stepper {
         for force in &actuation.joint_forces {
             model.add_joint_force_to(&self.kinematics, force.body, force.force, &mut self.applied);
         }
+        let n = dof::<N>(self.n);
         model.forces_split(
             &self.kinematics,
-            &self.applied,
-            &mut self.h,
-            &mut self.damping,
+            &self.applied[..n],
+            &mut self.h[..n],
+            &mut self.damping[..n],
         );
         Ok(())
     }
@@ -570,9 +571,16 @@ impl Stepper {
         first.copy_from_slice(&self.force[..n]);
         let (normals, rest) = rest.split_at_mut(k * n);
         let (tangents, limits) = rest.split_at_mut(k * n);
-        normals.copy_from_slice(&self.w_n[..k * n]);
-        tangents.copy_from_slice(&self.w_t[..k * n]);
-        limits.copy_from_slice(&self.w_limit[..l * n]);
+        // Row by row: rows of a length known when compiling are copied in place.
+        for (to, from) in [
+            (normals, &self.w_n[..k * n]),
+            (tangents, &self.w_t[..k * n]),
+            (limits, &self.w_limit[..l * n]),
+        ] {
+            for (to, from) in to.chunks_exact_mut(n).zip(from.chunks_exact(n)) {
+                to.copy_from_slice(from);
+            }
+        }
         self.factor.solve_sized::<N>(solved);
         if self.locks.count > 0 {
             for row in solved[n..].chunks_exact_mut(n) {
@@ -610,9 +618,9 @@ impl Stepper {
         let size = 3 * k + l;
         // A (column-major, leading dimension `ld`) and b of docs/physics.md §4.3.
         let ld = self.lcp_a.nrows();
+        // Every entry of the `size × size` block is written once below (the zeros too), so
+        // nothing is cleared first.
         let a = self.lcp_a.as_mut_slice();
-        // The first `size` columns whole (one contiguous fill; rows past `size` are unused).
-        a[..size * ld].fill(0.0);
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
             let mat_r = &model.material(self.active[r]);
@@ -628,10 +636,14 @@ impl Stepper {
                 a[(k + c) * ld + r] = g_nt;
                 a[c * ld + k + r] = g_tn - g_tt * mu_c;
                 a[(k + c) * ld + k + r] = g_tt;
+                // The rows and columns of `ξ_L`: only contact `r`'s own are non-zero.
+                let own = r == c;
+                a[(2 * k + c) * ld + r] = 0.0;
+                a[(2 * k + c) * ld + k + r] = if own { 1.0 } else { 0.0 };
+                a[c * ld + 2 * k + r] = if own { 2.0 * mat_r.friction } else { 0.0 };
+                a[(k + c) * ld + 2 * k + r] = if own { -1.0 } else { 0.0 };
+                a[(2 * k + c) * ld + 2 * k + r] = 0.0;
             }
-            a[(2 * k + r) * ld + k + r] = 1.0;
-            a[r * ld + 2 * k + r] = 2.0 * mat_r.friction;
-            a[(k + r) * ld + 2 * k + r] = -1.0;
             b[r] = dot(w_n, &self.u_tilde[..n]) + mat_r.restitution_normal * self.gamma_n[r];
             b[k + r] = dot(w_t, &self.u_tilde[..n]) + mat_r.restitution_tangent * self.gamma_t[r];
             b[2 * k + r] = 0.0;
@@ -712,6 +724,9 @@ impl Stepper {
                 // The stop's column in the contacts' normal and tangential rows.
                 a[(off + r) * ld + c] = dot(row(&self.w_n, n, c), gw_j);
                 a[(off + r) * ld + k + c] = dot(row(&self.w_t, n, c), gw_j);
+                // No `ξ_L` in the stop's row, no stop in the friction-cone rows.
+                a[(2 * k + c) * ld + off + r] = 0.0;
+                a[(off + r) * ld + 2 * k + c] = 0.0;
             }
             for c in 0..l {
                 a[(off + c) * ld + off + r] = dot(w_j, row(&self.solved, n, 1 + 2 * k + c));
