@@ -377,13 +377,13 @@ impl Kinematics {
     }
 
     /// Jacobian row `row` (`3b + k`: `∂x_b/∂q`, `∂y_b/∂q`, `∂θ_b/∂q` for `k` = 0, 1, 2).
-    #[inline]
+    #[inline(always)]
     pub fn jacobian_row(&self, row: usize) -> &[f64] {
         &self.jacobian[row * self.dof..(row + 1) * self.dof]
     }
 
     /// The Jacobian rows `∂x_b/∂q`, `∂y_b/∂q`, `∂θ_b/∂q` of body `b`.
-    #[inline]
+    #[inline(always)]
     pub fn jacobian_rows(&self, b: usize) -> (&[f64], &[f64], &[f64]) {
         let n = self.dof;
         let rows = &self.jacobian[3 * b * n..3 * b * n + 3 * n];
@@ -434,7 +434,7 @@ impl Kinematics {
     /// Writes `J_Pᵀ n` into `w_n` and `J_Pᵀ t` into `w_t` (length `n`) in one pass: the
     /// contact directions `w_N`, `w_T` of a contact frame `(n, t)` at the material point of
     /// body `b` at world offset `r` from its centre of mass (docs/physics.md §1, [2.5-2.7]).
-    #[inline]
+    #[inline(always)]
     pub fn frame_directions_to(
         &self,
         b: usize,
@@ -453,7 +453,7 @@ impl Kinematics {
     }
 
     /// Adds a torque `tau` on body `b` (and `-tau` on `reaction`, if any) to `out`.
-    #[inline]
+    #[inline(always)]
     pub fn add_torque_to(&self, b: usize, reaction: Option<usize>, tau: f64, out: &mut [f64]) {
         let (_, _, t) = self.jacobian_rows(b);
         for (o, t) in out.iter_mut().zip(t) {

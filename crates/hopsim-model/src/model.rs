@@ -576,7 +576,7 @@ impl Model {
     }
 
     /// [`Model::contact_directions`] into slices of length `n`.
-    #[inline]
+    #[inline(always)]
     pub fn contact_directions_to(
         &self,
         kinematics: &Kinematics,

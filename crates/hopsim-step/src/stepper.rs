@@ -289,9 +289,9 @@ impl Stepper {
     /// Resets the record and energy account to `state` at the start of a run.
     pub fn start(&mut self, model: &Model, state: &State) -> &StepRecord {
         self.kinematics.update(model, &state.q, &state.u);
-        let mut energy = EnergyLedger::default();
-        self.fill_energies(model, &mut energy);
-        energy.initial = energy.total();
+        self.record.energy = EnergyLedger::default();
+        self.fill_energies(model);
+        self.record.energy.initial = self.record.energy.total();
         self.record.step = 0;
         self.record.t = state.t;
         self.t_start = state.t;
@@ -299,7 +299,6 @@ impl Stepper {
         self.record.pair_contacts.clear();
         self.record.limits.clear();
         self.record.locks.clear();
-        self.record.energy = energy;
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
         self.fill_gaps(model);
@@ -308,8 +307,11 @@ impl Stepper {
         &self.record
     }
 
-    fn fill_energies(&self, model: &Model, energy: &mut EnergyLedger) {
+    /// The energies at the current kinematics into the record's account, field by field
+    /// (the account is not copied: its fields were just written one by one).
+    fn fill_energies(&mut self, model: &Model) {
         let energies = model.energies(&self.kinematics);
+        let energy = &mut self.record.energy;
         energy.kinetic = energies.kinetic;
         energy.potential = energies.potential;
         energy.spring = energies.spring;
@@ -432,17 +434,14 @@ impl Stepper {
             }
             self.mass_fixed = self.kinematics.jacobian_is_constant();
         }
-        self.applied[..dof::<N>(self.n)].fill(0.0);
+        let applied = &mut self.applied[..dof::<N>(self.n)];
+        applied.fill(0.0);
         for torque in &actuation.torques {
-            self.kinematics.add_torque_to(
-                torque.body,
-                torque.reaction,
-                torque.torque,
-                &mut self.applied,
-            );
+            self.kinematics
+                .add_torque_to(torque.body, torque.reaction, torque.torque, applied);
         }
         for force in &actuation.joint_forces {
-            model.add_joint_force_to(&self.kinematics, force.body, force.force, &mut self.applied);
+            model.add_joint_force_to(&self.kinematics, force.body, force.force, applied);
         }
         let n = dof::<N>(self.n);
         model.forces_split(
@@ -561,14 +560,15 @@ impl Stepper {
     #[inline]
     fn free_velocity<const N: usize>(&mut self, k: usize) {
         let (n, dt) = (dof::<N>(self.n), self.settings.dt);
-        let (force, h, impulse) = (&mut self.force[..n], &self.h[..n], &self.impulse[..n]);
-        for ((f, h), p) in force.iter_mut().zip(h).zip(impulse) {
-            *f = h * dt + p;
-        }
         let l = self.active_limits.len();
         let solved = &mut self.solved[..(2 * k + l + 1) * n];
         let (first, rest) = solved.split_at_mut(n);
-        first.copy_from_slice(&self.force[..n]);
+        // Into `force` and the first right-hand side in one pass (no reload of `force`).
+        let (force, h, impulse) = (&mut self.force[..n], &self.h[..n], &self.impulse[..n]);
+        for (((f, s), h), p) in force.iter_mut().zip(first.iter_mut()).zip(h).zip(impulse) {
+            *f = h * dt + p;
+            *s = *f;
+        }
         let (normals, rest) = rest.split_at_mut(k * n);
         let (tangents, limits) = rest.split_at_mut(k * n);
         // Row by row: rows of a length known when compiling are copied in place.
@@ -894,22 +894,27 @@ impl Stepper {
             &mut state.q.as_mut_slice()[..n],
             &mut state.u.as_mut_slice()[..n],
         );
-        for ((q, m), v) in q.iter_mut().zip(&self.q_mid[..n]).zip(&self.u_end[..n]) {
+        // The new state is checked in the same pass (finite, below the runaway speed: `0·v`
+        // is NaN exactly for a non-finite `v`), and in full for the error's details.
+        let (mut non_finite, mut speed) = (0.0, 0.0_f64);
+        for (((q, u), m), v) in q
+            .iter_mut()
+            .zip(u.iter_mut())
+            .zip(&self.q_mid[..n])
+            .zip(&self.u_end[..n])
+        {
             *q = m + 0.5 * dt * v;
+            *u = *v;
+            non_finite += 0.0 * *q + 0.0 * v;
+            speed = speed.max(v.abs());
         }
-        u.copy_from_slice(&self.u_end[..n]);
         if step == 1 {
             self.t_start = t;
         }
         state.t = self.t_start + step as f64 * dt;
-        check_state(
-            state,
-            dof::<N>(self.n),
-            step,
-            t,
-            self.settings.max_speed,
-            false,
-        )?;
+        if !(non_finite == 0.0 && speed <= self.settings.max_speed) {
+            check_state(state, n, step, t, self.settings.max_speed, false)?;
+        }
         self.kinematics
             .update_slices(model, state.q.as_slice(), state.u.as_slice());
         self.record.step = step;
@@ -925,9 +930,7 @@ impl Stepper {
     fn ledger<const N: usize>(&mut self, model: &Model, actuation: &Actuation) {
         if self.ledger {
             self.add_works::<N>(actuation);
-            let mut energy = self.record.energy;
-            self.fill_energies(model, &mut energy);
-            self.record.energy = energy;
+            self.fill_energies(model);
         } else {
             self.record.locks.clear();
             if !actuation.locks.is_empty() {
@@ -952,7 +955,8 @@ impl Stepper {
             *m = 0.5 * (a + e);
         }
         let mean = &self.scratch[..n];
-        let mut energy = self.record.energy;
+        // Field by field in place (a copy of the account would reload fields just stored).
+        let energy = &mut self.record.energy;
         energy.actuator_work += dt * dot(&self.applied[..n], mean) + dot(&self.impulse[..n], mean);
         energy.damping_work += dt * dot(&self.damping[..n], mean);
         for c in 0..k {
@@ -967,10 +971,9 @@ impl Stepper {
         self.record.locks.clear();
         if !actuation.locks.is_empty() {
             self.lock_force::<N>();
-            energy.lock_work += dot(&self.force, &self.scratch[..n]);
+            self.record.energy.lock_work += dot(&self.force, &self.scratch[..n]);
             self.push_lock_records(actuation);
         }
-        self.record.energy = energy;
     }
 
     /// The generalised lock force `B P = M (u^E − u^A) − h Δt − impulses − W Λ` of the
