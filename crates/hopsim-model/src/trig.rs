@@ -66,22 +66,24 @@ fn reduce(theta: f64) -> (i64, f64, f64) {
     let mut y0 = r - w;
     if e - exponent(y0) > 16 {
         // The leading bits cancelled: take the next 33 bits of π/2.
-        let t = r;
-        w = kf * PIO2_2;
-        r = t - w;
-        w = kf * PIO2_2T - ((t - r) - w);
-        y0 = r - w;
+        (r, w, y0) = next_bits(kf, r, PIO2_2, PIO2_2T);
         if e - exponent(y0) > 49 {
             // And the next (a θ within 2⁻⁴⁹ relative of a multiple of π/2).
-            let t = r;
-            w = kf * PIO2_3;
-            r = t - w;
-            w = kf * PIO2_3T - ((t - r) - w);
-            y0 = r - w;
+            (r, w, y0) = next_bits(kf, r, PIO2_3, PIO2_3T);
         }
     }
     let y1 = (r - y0) - w;
     (k, y0, y1)
+}
+
+/// One more round of the reduction: `r − k·(piece + tail)` from the remainder `r` of the
+/// rounds before, as `(r, w, y0 = r − w)`.
+#[inline]
+fn next_bits(kf: f64, t: f64, piece: f64, tail: f64) -> (f64, f64, f64) {
+    let w = kf * piece;
+    let r = t - w;
+    let w = kf * tail - ((t - r) - w);
+    (r, w, r - w)
 }
 
 /// `sin(x + y)` for `|x + y| ≤ π/4`, `y` the tail of `x` (fdlibm `__kernel_sin`).
