@@ -595,3 +595,66 @@ fn a_constant_jacobian_is_a_constant_mass_matrix() {
         }
     }
 }
+
+/// With a constant Jacobian `J̇ = 0`, so `h(q, u)` is the bodies' weight alone, the same at
+/// every state (docs/physics.md §1): for a floating disc with a centred flywheel the whole
+/// weight on `y`, no torque; for a slider on a fixed axis `a` carrying a centred wheel the
+/// weight's component `m g · a` along it. The kinematics are updated once at a state with
+/// spin and then at others (the weight is written with the Jacobian, at the first).
+#[test]
+fn a_constant_jacobian_has_the_bodies_weight_as_its_forces() {
+    let g = 9.81;
+    let model_of = |bodies: Vec<Body>| {
+        Model::new(
+            bodies,
+            vec![],
+            Terrain::flat(0.0),
+            vec![],
+            Vec2::new(0.0, -g),
+            ContactMaterial::default(),
+        )
+        .unwrap()
+    };
+    let axis = Vec2::new(0.6, 0.8);
+    let slider = Body {
+        name: "slider".into(),
+        mass: 0.5,
+        inertia: 0.01,
+        joint: Some(Joint {
+            kind: JointKind::Prismatic { axis },
+            ..Joint::revolute(None, Vec2::new(0.1, 0.2), Vec2::zeros())
+        }),
+    };
+    let wheel = Body {
+        name: "wheel".into(),
+        mass: 0.3,
+        inertia: 0.02,
+        joint: Some(Joint::revolute(Some(0), Vec2::zeros(), Vec2::zeros())),
+    };
+    let cases = [
+        (
+            model_of(vec![
+                Body::base("disc", 2.0, 0.1),
+                Body::flywheel("flywheel", 0.5, 0.01, 0),
+            ]),
+            vec![0.0, -2.5 * g, 0.0, 0.0],
+        ),
+        (model_of(vec![slider, wheel]), vec![-0.8 * g * axis.y, 0.0]),
+    ];
+    for (model, weight) in cases {
+        let n = model.dof();
+        let mut kinematics = Kinematics::new(&model);
+        let zero = DVector::zeros(n);
+        for i in 0..4 {
+            let q = DVector::from_fn(n, |j, _| 0.9 * i as f64 - 0.35 * j as f64);
+            let u = DVector::from_fn(n, |j, _| 3.0 * (i as f64 + 1.0) - 1.7 * j as f64);
+            kinematics.update(&model, &q, &u);
+            assert!(kinematics.jacobian_is_constant());
+            let mut h = DVector::zeros(n);
+            model.forces(&kinematics, &zero, &mut h);
+            for (k, (h, w)) in h.iter().zip(&weight).enumerate() {
+                assert!((h - w).abs() < 1e-12, "state {i}, h[{k}] = {h} against {w}");
+            }
+        }
+    }
+}
