@@ -87,6 +87,7 @@ impl ContactGeometry {
 /// polygon's edges (signed point-polygon distance). A corner against an ellipse uses the
 /// closest point on the ellipse by Eberly's monotone root, exact to round-off (see
 /// `ellipse.rs`). A point behind a line is that line's only if [`owned_by_line`].
+#[inline]
 pub(crate) fn contact_geometry(
     shape: &Shape,
     feature: ShapeFeature,
@@ -109,6 +110,7 @@ pub(crate) fn contact_geometry(
 /// vertex resting on a step's top would also touch the step's face, whose line extends
 /// behind it (and hold the vertex from sliding across). Corners and points in front of
 /// the line are always kept.
+#[inline]
 fn owned_by_line(
     geometry: &ContactGeometry,
     terrain: &TerrainFeature,
@@ -157,6 +159,7 @@ fn owned_by_line(
 }
 
 /// The geometry of `feature` against one terrain feature, without the ownership test.
+#[inline]
 fn feature_geometry(
     shape: &Shape,
     feature: ShapeFeature,
@@ -209,6 +212,7 @@ fn corner_contact(
     in_cone(normal, first, last).then_some(ContactGeometry { gap, point, normal })
 }
 
+#[inline]
 fn smooth_geometry(
     shape: &Shape,
     position: Vec2,
@@ -326,6 +330,7 @@ pub(crate) fn polygon_signed_distance(vertices: &[Vec2], c: Vec2) -> Option<(f64
 }
 
 /// A world point against a line feature; `None` beyond the line's ends.
+#[inline]
 fn point_against_line(point: Vec2, terrain: &TerrainFeature) -> Option<ContactGeometry> {
     let TerrainFeature::Line {
         origin,

@@ -79,6 +79,7 @@ impl Shape {
 
     /// Whether the body-frame direction `dir` (from the shape's centre) falls on the
     /// shape's boundary: always for closed curves, inside `start ..= end` for an arc.
+    #[inline]
     pub fn covers_direction(&self, dir: Vec2) -> bool {
         match self {
             Shape::Arc { start, end, .. } => {
