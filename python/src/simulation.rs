@@ -421,23 +421,27 @@ impl PySimulation {
     #[getter]
     fn angular_velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let sim = self.shared();
-        PyArray1::from_slice(py, &sim.stepper().kinematics().angular_velocity)
+        let k = sim.stepper().kinematics();
+        PyArray1::from_iter(py, (0..k.bodies()).map(|b| k.angular_velocity(b)))
     }
 
     /// Centre-of-mass position of each body, m, shape `(bodies, 2)` (a copy).
     #[getter]
     fn body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let sim = self.shared();
-        let p = &sim.stepper().kinematics().position;
-        let flat: Vec<f64> = p.iter().flat_map(|v| [v.x, v.y]).collect();
-        PyArray1::from_vec(py, flat).reshape([p.len(), 2])
+        let k = sim.stepper().kinematics();
+        let flat: Vec<f64> = (0..k.bodies())
+            .flat_map(|b| [k.position(b).x, k.position(b).y])
+            .collect();
+        PyArray1::from_vec(py, flat).reshape([k.bodies(), 2])
     }
 
     /// Absolute angle of each body, rad (a copy).
     #[getter]
     fn body_angles<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let sim = self.shared();
-        PyArray1::from_slice(py, &sim.stepper().kinematics().angle)
+        let k = sim.stepper().kinematics();
+        PyArray1::from_iter(py, (0..k.bodies()).map(|b| k.angle(b)))
     }
 
     /// Whether any contact carried a normal percussion in the last step (what the scene's

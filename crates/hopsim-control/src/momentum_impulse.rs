@@ -39,8 +39,9 @@ impl MomentumImpulse {
 
     /// The impulse `ζ = I_S I_R/(I_S + I_R) (ψ̇ - φ̇)` a brake would transfer now [5.7-5.9].
     pub fn stored_impulse(&self, input: &ControlInput<'_>) -> f64 {
-        let w = &input.kinematics.angular_velocity;
-        self.reduced_inertia * (w[self.config.flywheel] - w[self.disc])
+        let k = input.kinematics;
+        self.reduced_inertia
+            * (k.angular_velocity(self.config.flywheel) - k.angular_velocity(self.disc))
     }
 }
 

@@ -41,29 +41,41 @@ impl Rotation {
     }
 }
 
+/// What [`Kinematics`] keeps of one body, in one record (one bounds check per body).
+#[derive(Clone, Copy, Debug)]
+struct BodyFrame {
+    /// Centre-of-mass position, world frame, m.
+    position: Vec2,
+    /// Absolute angle, rad.
+    angle: f64,
+    /// Absolute angular velocity, rad/s.
+    angular_velocity: f64,
+    /// Centre-of-mass velocity, m/s.
+    velocity: Vec2,
+    /// The body's rotation; NaN for bodies whose geometry never needs it.
+    rotation: Rotation,
+    /// `J̇_b u` of the body's centre of mass (centripetal terms), m/s².
+    bias: Vec2,
+    /// Joint position and velocity (see [`Kinematics::joint_position`]).
+    joint_position: f64,
+    joint_rate: f64,
+    /// Whether the body's rotation is needed (shapes, springs, offsets on it).
+    needs_rotation: bool,
+    /// Whether the body pivots at its parent's centre of mass, which is also its own (a
+    /// revolute joint with zero pivot and centre-of-mass offsets, as Robbit's flywheel).
+    centred: bool,
+}
+
 /// The kinematics of a [`Model`] at one `(q, u)`: poses, velocities, Jacobians and
 /// velocity-product accelerations of every body, in buffers allocated once per model.
 ///
 /// After [`Kinematics::update`] every field and method describes that `(q, u)`.
 #[derive(Clone, Debug)]
 pub struct Kinematics {
-    /// Centre-of-mass position of each body, world frame, m.
-    pub position: Vec<Vec2>,
-    /// Absolute angle of each body, rad.
-    pub angle: Vec<f64>,
-    /// Absolute angular velocity of each body, rad/s.
-    pub angular_velocity: Vec<f64>,
-    /// Centre-of-mass velocity of each body, m/s.
-    pub velocity: Vec<Vec2>,
     /// Number of generalised coordinates `n`.
     dof: usize,
-    /// Rotation of each body; NaN for bodies whose geometry never needs it.
-    rotation: Vec<Rotation>,
-    /// Whether body `b`'s rotation is needed (shapes, springs, offsets on it).
-    needs_rotation: Vec<bool>,
-    /// Whether body `b` pivots at its parent's centre of mass, which is also its own
-    /// (a revolute joint with zero pivot and centre-of-mass offsets, as Robbit's flywheel).
-    centred: Vec<bool>,
+    /// Pose, velocity, rotation, bias and joint state of each body.
+    frames: Vec<BodyFrame>,
     /// Row-major `3B × n`: rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`.
     jacobian: Vec<f64>,
     /// Sorted columns of the structurally non-zero entries of Jacobian row `r`:
@@ -78,11 +90,6 @@ pub struct Kinematics {
     /// `Σ_b J_bᵀ m_b g`, the generalised weight, written with a constant Jacobian (see
     /// [`Kinematics::constant_weight`]).
     weight: Vec<f64>,
-    /// `J̇_b u` of each body's centre of mass (centripetal terms), m/s².
-    bias: Vec<Vec2>,
-    /// Joint position and velocity of each body (see [`Kinematics::joint_position`]).
-    joint_position: Vec<f64>,
-    joint_rate: Vec<f64>,
     /// Three zero rows of length `n`: the world's Jacobian.
     zero_rows: Vec<f64>,
 }
@@ -109,40 +116,40 @@ impl Kinematics {
                 }
             }
         }
-        let centred = model
+        let frames = model
             .bodies
             .iter()
-            .map(|body| {
-                body.joint.as_ref().is_some_and(|j| {
+            .zip(needs_rotation)
+            .map(|(body, needs_rotation)| BodyFrame {
+                position: Vec2::zeros(),
+                angle: 0.0,
+                angular_velocity: 0.0,
+                velocity: Vec2::zeros(),
+                rotation: Rotation {
+                    sin: f64::NAN,
+                    cos: f64::NAN,
+                },
+                bias: Vec2::zeros(),
+                joint_position: 0.0,
+                joint_rate: 0.0,
+                needs_rotation,
+                centred: body.joint.as_ref().is_some_and(|j| {
                     matches!(j.kind, JointKind::Revolute)
                         && is_zero(j.pivot_in_parent)
                         && is_zero(j.com_in_child)
-                })
+                }),
             })
             .collect();
         let (pattern, pattern_start, jacobian_constant) = jacobian_pattern(model);
-        let nan = Rotation {
-            sin: f64::NAN,
-            cos: f64::NAN,
-        };
         Self {
-            position: vec![Vec2::zeros(); nb],
-            angle: vec![0.0; nb],
-            angular_velocity: vec![0.0; nb],
-            velocity: vec![Vec2::zeros(); nb],
             dof: model.dof(),
-            rotation: vec![nan; nb],
-            needs_rotation,
-            centred,
+            frames,
             jacobian: vec![0.0; 3 * nb * model.dof()],
             pattern,
             pattern_start,
             jacobian_constant,
             jacobian_written: false,
             weight: vec![0.0; model.dof()],
-            bias: vec![Vec2::zeros(); nb],
-            joint_position: vec![0.0; nb],
-            joint_rate: vec![0.0; nb],
             zero_rows: vec![0.0; 3 * model.dof()],
         }
     }
@@ -168,14 +175,15 @@ impl Kinematics {
             let coord = model.first_coordinate[b];
             let Some(joint) = body.joint.as_ref() else {
                 // A floating base: (x, y, φ) are its own coordinates.
-                self.position[b] = Vec2::new(q[coord], q[coord + 1]);
-                self.angle[b] = q[coord + 2];
-                if self.needs_rotation[b] {
-                    self.rotation[b] = Rotation::new(q[coord + 2]);
+                let frame = &mut self.frames[b];
+                frame.position = Vec2::new(q[coord], q[coord + 1]);
+                frame.angle = q[coord + 2];
+                if frame.needs_rotation {
+                    frame.rotation = Rotation::new(q[coord + 2]);
                 }
-                self.velocity[b] = Vec2::new(u[coord], u[coord + 1]);
-                self.angular_velocity[b] = u[coord + 2];
-                self.bias[b] = Vec2::zeros();
+                frame.bias = Vec2::zeros();
+                frame.velocity = Vec2::new(u[coord], u[coord + 1]);
+                frame.angular_velocity = u[coord + 2];
                 if write_jacobian {
                     for k in 0..3 {
                         self.jacobian[(3 * b + k) * n + coord + k] = 1.0;
@@ -185,14 +193,17 @@ impl Kinematics {
             };
             // The parent's pose and motion; the world's is the identity at rest.
             let (p_position, p_angle, wp, p_rotation, p_bias, p_velocity) = match joint.parent {
-                Some(p) => (
-                    self.position[p],
-                    self.angle[p],
-                    self.angular_velocity[p],
-                    self.rotation[p],
-                    self.bias[p],
-                    self.velocity[p],
-                ),
+                Some(p) => {
+                    let parent = &self.frames[p];
+                    (
+                        parent.position,
+                        parent.angle,
+                        parent.angular_velocity,
+                        parent.rotation,
+                        parent.bias,
+                        parent.velocity,
+                    )
+                }
                 None => (
                     Vec2::zeros(),
                     0.0,
@@ -208,37 +219,38 @@ impl Kinematics {
                         JointCoordinate::Absolute => (q[coord], u[coord]),
                         JointCoordinate::Relative => (p_angle + q[coord], wp + u[coord]),
                     };
-                    (self.joint_position[b], self.joint_rate[b]) = match joint.coordinate {
+                    let frame = &mut self.frames[b];
+                    (frame.joint_position, frame.joint_rate) = match joint.coordinate {
                         JointCoordinate::Absolute => (q[coord] - p_angle, u[coord] - wp),
                         JointCoordinate::Relative => (q[coord], u[coord]),
                     };
-                    self.angle[b] = angle;
-                    self.angular_velocity[b] = rate;
-                    if self.needs_rotation[b] {
-                        self.rotation[b] = Rotation::new(angle);
+                    if frame.needs_rotation {
+                        frame.rotation = Rotation::new(angle);
                     }
-                    let centred = self.centred[b];
+                    let centred = frame.centred;
                     let (r_pivot, r_com) = if centred {
                         (Vec2::zeros(), Vec2::zeros())
                     } else {
                         (
                             rotated(p_rotation, joint.pivot_in_parent),
-                            rotated(self.rotation[b], joint.com_in_child),
+                            rotated(frame.rotation, joint.com_in_child),
                         )
                     };
-                    let (lp, lc) = (perp(r_pivot), perp(r_com));
-                    if centred {
-                        // Pivoting at the parent's centre of mass, which is its own.
-                        self.position[b] = p_position;
-                        self.velocity[b] = p_velocity;
-                    } else {
-                        self.position[b] = p_position + r_pivot + r_com;
-                        self.velocity[b] = p_velocity + lp * wp + lc * rate;
-                    }
                     // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it
                     // (with a constant Jacobian `J̇ = 0`: the bias keeps its zeros).
                     if !self.jacobian_constant {
-                        self.bias[b] = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
+                        frame.bias = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
+                    }
+                    frame.angle = angle;
+                    frame.angular_velocity = rate;
+                    let (lp, lc) = (perp(r_pivot), perp(r_com));
+                    if centred {
+                        // Pivoting at the parent's centre of mass, which is its own.
+                        frame.position = p_position;
+                        frame.velocity = p_velocity;
+                    } else {
+                        frame.position = p_position + r_pivot + r_com;
+                        frame.velocity = p_velocity + lp * wp + lc * rate;
                     }
                     if !write_jacobian {
                         continue;
@@ -266,22 +278,23 @@ impl Kinematics {
                 JointKind::Prismatic { axis } => {
                     // No relative rotation; the pivot slides to `pivot + s axis` (§7).
                     let (s, rate_s) = (q[coord], u[coord]);
-                    (self.joint_position[b], self.joint_rate[b]) = (s, rate_s);
-                    self.angle[b] = p_angle;
-                    self.angular_velocity[b] = wp;
-                    if self.needs_rotation[b] {
-                        self.rotation[b] = p_rotation;
+                    let frame = &mut self.frames[b];
+                    (frame.joint_position, frame.joint_rate) = (s, rate_s);
+                    if frame.needs_rotation {
+                        frame.rotation = p_rotation;
                     }
+                    frame.angle = p_angle;
+                    frame.angular_velocity = wp;
                     let e = p_rotation.apply(axis);
                     let r = p_rotation.apply(joint.pivot_in_parent + axis * s)
                         + rotated(p_rotation, joint.com_in_child);
                     let lever = perp(r);
-                    self.position[b] = p_position + r;
-                    self.velocity[b] = p_velocity + lever * wp + e * rate_s;
+                    frame.position = p_position + r;
+                    frame.velocity = p_velocity + lever * wp + e * rate_s;
                     // Centripetal and Coriolis accelerations: −ω² r + 2 ω ṡ perp(e) (zero with
                     // a constant Jacobian).
                     if !self.jacobian_constant {
-                        self.bias[b] = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
+                        frame.bias = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
                     }
                     if !write_jacobian {
                         continue;
@@ -303,14 +316,14 @@ impl Kinematics {
                 JointKind::Fixed { angle } => {
                     // Welded to the world: the Jacobian rows stay zero.
                     let rotation = Rotation::new(angle);
-                    self.rotation[b] = rotation;
-                    self.angle[b] = angle;
-                    self.angular_velocity[b] = 0.0;
-                    self.position[b] =
-                        joint.pivot_in_parent + rotated(rotation, joint.com_in_child);
-                    self.velocity[b] = Vec2::zeros();
-                    self.bias[b] = Vec2::zeros();
-                    (self.joint_position[b], self.joint_rate[b]) = (0.0, 0.0);
+                    let frame = &mut self.frames[b];
+                    frame.rotation = rotation;
+                    frame.bias = Vec2::zeros();
+                    (frame.joint_position, frame.joint_rate) = (0.0, 0.0);
+                    frame.angle = angle;
+                    frame.angular_velocity = 0.0;
+                    frame.position = joint.pivot_in_parent + rotated(rotation, joint.com_in_child);
+                    frame.velocity = Vec2::zeros();
                 }
             }
         }
@@ -346,17 +359,47 @@ impl Kinematics {
         ((px, py, pt), bx, by, bt)
     }
 
+    /// Centre-of-mass position of body `b`, world frame, m.
+    #[inline]
+    pub fn position(&self, b: usize) -> Vec2 {
+        self.frames[b].position
+    }
+
+    /// Absolute angle of body `b`, rad.
+    #[inline]
+    pub fn angle(&self, b: usize) -> f64 {
+        self.frames[b].angle
+    }
+
+    /// Absolute angular velocity of body `b`, rad/s.
+    #[inline]
+    pub fn angular_velocity(&self, b: usize) -> f64 {
+        self.frames[b].angular_velocity
+    }
+
+    /// Centre-of-mass velocity of body `b`, m/s.
+    #[inline]
+    pub fn velocity(&self, b: usize) -> Vec2 {
+        self.frames[b].velocity
+    }
+
+    /// Number of bodies.
+    #[inline]
+    pub fn bodies(&self) -> usize {
+        self.frames.len()
+    }
+
     /// The joint position `s` of body `b` (rad or m): its angle relative to the parent (or
     /// the world), or its prismatic extension; 0 for a floating or fixed body.
     #[inline]
     pub fn joint_position(&self, b: usize) -> f64 {
-        self.joint_position[b]
+        self.frames[b].joint_position
     }
 
     /// The joint velocity `ṡ` of body `b` (rad/s or m/s).
     #[inline]
     pub fn joint_rate(&self, b: usize) -> f64 {
-        self.joint_rate[b]
+        self.frames[b].joint_rate
     }
 
     /// Number of generalised coordinates.
@@ -367,13 +410,13 @@ impl Kinematics {
     /// Rotation of body `b` (only for bodies with geometry on them).
     #[inline]
     pub(crate) fn rotation(&self, b: usize) -> Rotation {
-        self.rotation[b]
+        self.frames[b].rotation
     }
 
     /// `J̇_b u` of body `b`'s centre of mass, m/s².
     #[inline]
     pub fn bias(&self, b: usize) -> Vec2 {
-        self.bias[b]
+        self.frames[b].bias
     }
 
     /// Jacobian row `row` (`3b + k`: `∂x_b/∂q`, `∂y_b/∂q`, `∂θ_b/∂q` for `k` = 0, 1, 2).
@@ -495,7 +538,8 @@ impl Kinematics {
     /// Velocity of the material point of body `b` at world offset `r` from its CoM.
     #[inline]
     pub fn point_velocity(&self, b: usize, r: Vec2) -> Vec2 {
-        self.velocity[b] + perp(r) * self.angular_velocity[b]
+        let frame = &self.frames[b];
+        frame.velocity + perp(r) * frame.angular_velocity
     }
 }
 

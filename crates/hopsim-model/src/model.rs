@@ -236,7 +236,7 @@ impl Model {
         let pose = |s: usize| {
             let b = self.shapes[s].body;
             Pose {
-                position: kinematics.position[b],
+                position: kinematics.position(b),
                 rotation: kinematics.rotation(b),
             }
         };
@@ -470,7 +470,7 @@ impl Model {
             if let Some(h) = dissipative.as_deref_mut().filter(|_| joint.damping != 0.0) {
                 let rate = match (joint.kind, joint.parent) {
                     (JointKind::Revolute, Some(p)) => {
-                        kinematics.angular_velocity[b] - kinematics.angular_velocity[p]
+                        kinematics.angular_velocity(b) - kinematics.angular_velocity(p)
                     }
                     _ => kinematics.joint_rate(b),
                 };
@@ -486,8 +486,8 @@ impl Model {
         }
         for spring in &self.springs {
             let (ra, rb) = self.spring_offsets(kinematics, spring);
-            let pa = kinematics.position[spring.body_a] + ra;
-            let pb = kinematics.position[spring.body_b] + rb;
+            let pa = kinematics.position(spring.body_a) + ra;
+            let pb = kinematics.position(spring.body_b) + rb;
             let (dir, length) = separation(pa, pb);
             let rate = dir.dot(
                 &(kinematics.point_velocity(spring.body_a, ra)
@@ -539,8 +539,8 @@ impl Model {
         let spring = &self.springs[s];
         let (ra, rb) = self.spring_offsets(kinematics, spring);
         (
-            kinematics.position[spring.body_a] + ra,
-            kinematics.position[spring.body_b] + rb,
+            kinematics.position(spring.body_a) + ra,
+            kinematics.position(spring.body_b) + rb,
         )
     }
 
@@ -552,7 +552,7 @@ impl Model {
         contact_geometry(
             &inst.shape,
             c.feature,
-            kinematics.position[inst.body],
+            kinematics.position(inst.body),
             kinematics.rotation(inst.body),
             &self.terrain.features,
             c.terrain,
@@ -570,7 +570,7 @@ impl Model {
         w_t: DVectorViewMut<'_, f64>,
     ) {
         let body = self.shapes[self.contacts[i].shape].body;
-        let r = geometry.point - kinematics.position[body];
+        let r = geometry.point - kinematics.position(body);
         kinematics.point_force_direction(body, r, geometry.normal, w_n);
         kinematics.point_force_direction(body, r, geometry.tangent(), w_t);
     }
@@ -586,7 +586,7 @@ impl Model {
         w_t: &mut [f64],
     ) {
         let body = self.shapes[self.contacts[i].shape].body;
-        let r = geometry.point - kinematics.position[body];
+        let r = geometry.point - kinematics.position(body);
         kinematics.frame_directions_to(body, r, (geometry.normal, geometry.tangent()), w_n, w_t);
     }
 
@@ -615,11 +615,14 @@ impl Model {
             })
             .sum();
         let (mut kinetic, mut potential) = (0.0, 0.0);
-        let bodies = self.bodies.iter().zip(&kinematics.velocity);
-        let moving = bodies.zip(kinematics.angular_velocity.iter().zip(&kinematics.position));
-        for (b, ((body, v), (w, p))) in moving.enumerate() {
+        for (b, body) in self.bodies.iter().enumerate() {
+            let (v, w, p) = (
+                kinematics.velocity(b),
+                kinematics.angular_velocity(b),
+                kinematics.position(b),
+            );
             kinetic += 0.5 * (body.mass * v.norm_squared() + body.inertia * w * w);
-            potential += -body.mass * self.gravity.dot(p);
+            potential += -body.mass * self.gravity.dot(&p);
             if let Some(j) = body.joint.as_ref().filter(|j| j.stiffness != 0.0) {
                 let stretch = kinematics.joint_position(b) - j.rest_position;
                 spring += 0.5 * j.stiffness * stretch * stretch;
@@ -639,7 +642,7 @@ impl Model {
             .iter()
             .enumerate()
             .filter(|(_, body)| !body.is_fixed())
-            .map(|(b, body)| body.mass * kinematics.position[b])
+            .map(|(b, body)| body.mass * kinematics.position(b))
             .sum();
         weighted / self.total_mass()
     }

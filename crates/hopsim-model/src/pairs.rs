@@ -218,8 +218,8 @@ pub(crate) fn pair_directions_to(
     w_t: &mut [f64],
 ) {
     let tangent = geometry.as_contact().tangent();
-    let r_b = geometry.point - kinematics.position[probe];
-    let r_a = geometry.target_point - kinematics.position[target];
+    let r_b = geometry.point - kinematics.position(probe);
+    let r_a = geometry.target_point - kinematics.position(target);
     kinematics.frame_directions_to(probe, r_b, (geometry.normal, tangent), w_n, w_t);
     kinematics.add_point_force_to(target, r_a, -geometry.normal, w_n);
     kinematics.add_point_force_to(target, r_a, -tangent, w_t);

@@ -221,8 +221,8 @@ impl RecordingObserver {
         self.bodies.clear();
         self.bodies
             .extend((0..model.bodies.len()).map(|b| BodyPose {
-                position: [ws.position[b].x, ws.position[b].y],
-                angle: ws.angle[b],
+                position: [ws.position(b).x, ws.position(b).y],
+                angle: ws.angle(b),
             }));
         self.contacts.clear();
         // Body–body contacts follow the terrain contacts in `RecordingInfo::contacts`; their

@@ -227,8 +227,8 @@ impl Observer for JointLog {
         let parts: Vec<f64> = (0..m.bodies.len())
             .map(|b| {
                 let body = &m.bodies[b];
-                body.inertia * ws.angular_velocity[b]
-                    + body.mass * cross(ws.position[b] - com, ws.velocity[b])
+                body.inertia * ws.angular_velocity(b)
+                    + body.mass * cross(ws.position(b) - com, ws.velocity(b))
             })
             .collect();
         let momentum: f64 = parts.iter().sum();

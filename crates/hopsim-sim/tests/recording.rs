@@ -220,14 +220,14 @@ fn a_prismatic_leg_is_described_and_drawn_along_its_axis() {
     impl Observer for Links {
         fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
             let k = v.kinematics;
-            let poses: Vec<hopsim_record::BodyPose> = (0..k.position.len())
+            let poses: Vec<hopsim_record::BodyPose> = (0..k.bodies())
                 .map(|b| hopsim_record::BodyPose {
-                    position: [k.position[b].x, k.position[b].y],
-                    angle: k.angle[b],
+                    position: [k.position(b).x, k.position(b).y],
+                    angle: k.angle(b),
                 })
                 .collect();
             let [a, b] = self.leg.link(&poses);
-            let (q, (sin, cos)) = (v.state.q.as_slice(), k.angle[0].sin_cos());
+            let (q, (sin, cos)) = (v.state.q.as_slice(), k.angle(0).sin_cos());
             // Anchor at the body's centre of mass (pivot [0, 0]); axis (0, −1) rotated by φ.
             let expected_end = [a[0] + q[3] * sin, a[1] - q[3] * cos];
             let errors = [
