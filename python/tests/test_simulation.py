@@ -257,3 +257,20 @@ def test_cradle_pair_contacts_carry_moreaus_simultaneous_percussions(robbit_path
         assert abs(c["normal"][0]) == pytest.approx(1.0, abs=1e-12)
         assert c["gap"] <= 0.0
     np.testing.assert_allclose(sim.u[0::3], [-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0], atol=1e-9)
+
+
+def test_body_arrays_follow_the_coordinates(robbit):
+    """Robbit's disc is a floating base, so its centre of mass and angle are its coordinates
+    `(x, y, φ)`; the flywheel pivots at that centre of mass with the absolute angle `ψ`:
+    `body_positions`, `body_angles` and `angular_velocities` must say so at every step."""
+    sim = hopsim.Simulation(robbit)
+    for _ in range(3):
+        sim.step(400)
+        q, u = sim.q, sim.u
+        p, angles = sim.body_positions, sim.body_angles
+        assert p.shape == (2, 2)
+        np.testing.assert_array_equal(p[0], q[:2])
+        np.testing.assert_array_equal(p[1], p[0])
+        np.testing.assert_array_equal(angles, q[2:4])
+        np.testing.assert_array_equal(sim.angular_velocities, u[2:4])
+    assert abs(sim.u[0]) > 0.0, "the disc should be moving"
