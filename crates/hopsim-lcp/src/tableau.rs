@@ -606,7 +606,8 @@ fn pivot_loop_slices(
                 max4[k] = if a > max4[k] { a } else { max4[k] };
             }
         });
-        let col_max = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
+        // (The lanes hold no NaN: plain comparisons.)
+        let col_max = lane_max(lane_max(max4[0], max4[1]), lane_max(max4[2], max4[3]));
         let tol = PIV_TOL * col_max;
         let lex = Lex {
             ld,
@@ -721,7 +722,21 @@ fn lex_min_ratio(
     if count <= 1 {
         return Some(best);
     }
-    Some(break_ties(n, lex, col, &mut ties[..count]))
+    let Lex {
+        ld,
+        tab,
+        basis,
+        nb_pos,
+    } = lex;
+    Some(break_ties(
+        n,
+        ld,
+        tab,
+        basis,
+        nb_pos,
+        col,
+        &mut ties[..count],
+    ))
 }
 
 /// Lexicographic tie-break on the rows of `B⁻¹` (the w-columns), column by column; the
@@ -729,13 +744,16 @@ fn lex_min_ratio(
 /// basic `w_k` is the unit vector of its row (not stored).
 #[cold]
 #[inline(never)]
-fn break_ties(n: usize, lex: Lex<'_>, col: &[f64], ties: &mut [usize]) -> usize {
-    let Lex {
-        ld,
-        tab,
-        basis,
-        nb_pos,
-    } = lex;
+#[allow(clippy::too_many_arguments)]
+fn break_ties(
+    n: usize,
+    ld: usize,
+    tab: &[f64],
+    basis: &[usize],
+    nb_pos: &[usize],
+    col: &[f64],
+    ties: &mut [usize],
+) -> usize {
     let mut count = ties.len();
     for k in 0..n {
         if nb_pos[k] == usize::MAX {
