@@ -155,6 +155,37 @@ impl OldColumn for Scaled<'_> {
     }
 }
 
+/// Which row is the pivot row, for [`update_column`].
+trait Hot: Copy {
+    /// Whether rows `i..i + W` are the pivot row.
+    fn lanes<const W: usize>(self, i: usize) -> [bool; W];
+}
+
+/// The pivot row by its index (small `n`: the compare of a constant row-index vector with
+/// `r` stays in registers, no mask goes through memory).
+#[derive(Clone, Copy)]
+struct HotRow(usize);
+
+impl Hot for HotRow {
+    #[inline(always)]
+    fn lanes<const W: usize>(self, i: usize) -> [bool; W] {
+        std::array::from_fn(|k| i + k == self.0)
+    }
+}
+
+/// The pivot row by a one-hot mask made by [`set_hot`] (large `n`: a loop of unknown trip
+/// count reads the mask instead of comparing indices).
+#[derive(Clone, Copy)]
+struct HotMask<'a>(&'a [f64]);
+
+impl Hot for HotMask<'_> {
+    #[inline(always)]
+    fn lanes<const W: usize>(self, i: usize) -> [bool; W] {
+        let h = &self.0[i..i + W];
+        std::array::from_fn(|k| marked(h[k]))
+    }
+}
+
 /// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
 /// row mask, see [`set_hot`]) is marked, all in whole-group vector stores (see
 /// [`for_groups`]; `x` is cut to [`active_len`]). (A scalar store into a column that the
@@ -162,17 +193,18 @@ impl OldColumn for Scaled<'_> {
 /// `yn = −y` and adds `f·yn`, which is exactly `x − f·y` and compiles to one add per
 /// vector. The old values come from `old`.
 #[inline(always)]
-fn update_column(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64], old: impl OldColumn) {
+fn update_column(x: &mut [f64], f: f64, yn: &[f64], hot: impl Hot, old: impl OldColumn) {
     let len = x.len();
-    let (yn, hot) = (&yn[..len], &hot[..len]);
+    let yn = &yn[..len];
     for_groups!(len, |i, W| {
         let xc = &mut x[i..i + W];
-        let (yc, hc) = (&yn[i..i + W], &hot[i..i + W]);
+        let yc = &yn[i..i + W];
         let xo: [f64; W] = old.group(i, xc);
+        let hk: [bool; W] = hot.lanes(i);
         let mut v = [0.0; W];
         for k in 0..W {
             let e = xo[k] + f * yc[k];
-            v[k] = if marked(hc[k]) { f } else { e };
+            v[k] = if hk[k] { f } else { e };
         }
         xc.copy_from_slice(&v);
     });
@@ -180,20 +212,20 @@ fn update_column(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64], old: impl OldCo
 
 /// [`update_column`] of the stored column `x`, with `f = x_r / p`.
 #[inline(always)]
-fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64]) {
+fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: impl Hot) {
     update_column(x, f, yn, hot, Stored);
 }
 
 /// [`update_column`] of a column that was the unit vector `e_r` (not stored), so
 /// `f = 1/p`: written without reading `x`.
 #[inline(always)]
-fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: &[f64]) {
+fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: impl Hot) {
     update_column(x, inv, yn, hot, Zeros);
 }
 
 /// [`eliminate`] of the stored column `x` with `f = x_r · inv`, on `yn.len()` rows.
 #[inline(always)]
-fn eliminate_row(x: &mut [f64], r: usize, inv: f64, yn: &[f64], hot: &[f64]) {
+fn eliminate_row(x: &mut [f64], r: usize, inv: f64, yn: &[f64], hot: impl Hot) {
     let x = &mut x[..yn.len()];
     let f = x[r] * inv;
     eliminate(x, f, yn, hot);
@@ -220,7 +252,7 @@ fn eliminate_loaded(
     r: usize,
     inv: f64,
     yn: &[f64],
-    hot: &[f64],
+    hot: impl Hot,
 ) {
     let f = (s * src[r]) * inv;
     update_column(x, f, yn, hot, Scaled { s, src });
@@ -818,15 +850,51 @@ fn pivot(
     let la = active_len(n);
     let col = &col[..la];
     let inv = 1.0 / p;
-    let mut hot_local = [0.0; leading_dim(MAX_FIXED)];
-    let hot = if ld <= hot_local.len() {
-        &mut hot_local[..la]
-    } else {
-        &mut hot_buf[..la]
-    };
-    set_hot(hot, r);
-    let hot = &*hot;
     let tab = &mut tab[..ld * (2 * n + 2)];
+    let nonbasic = &nonbasic[..];
+    if n <= MAX_FIXED {
+        pivot_updates(
+            n,
+            ld,
+            tab,
+            nonbasic,
+            slot,
+            leaving,
+            col,
+            r,
+            inv,
+            load_z,
+            HotRow(r),
+        );
+    } else {
+        let hot = &mut hot_buf[..la];
+        set_hot(hot, r);
+        let hot = &*hot;
+        let hot = HotMask(hot);
+        pivot_updates(
+            n, ld, tab, nonbasic, slot, leaving, col, r, inv, load_z, hot,
+        );
+    }
+}
+
+/// The column updates of [`pivot`]: the right-hand side, the non-basic columns (those of z
+/// computed from `M` at the first pivot) and the leaving variable's column.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pivot_updates(
+    n: usize,
+    ld: usize,
+    tab: &mut [f64],
+    nonbasic: &[usize],
+    slot: usize,
+    leaving: usize,
+    col: &[f64],
+    r: usize,
+    inv: f64,
+    load_z: Option<(MatRef<'_>, f64)>,
+    hot: impl Hot,
+) {
+    let la = active_len(n);
     eliminate_row(&mut tab[..la], r, inv, col, hot);
     match load_z {
         // First pivot (z0 enters, nonbasic = [z_1..z_n, w_r]): the columns of z, −M·m_inv,
