@@ -721,7 +721,10 @@ fn lex_min_ratio(
 ) -> Option<usize> {
     let rhs = &lex.tab[..n];
     let col = &col[..n];
-    let rhs_at = |r: f64| if clamp && r <= 0.0 { 0.0 } else { r };
+    // (`0 > r`, not `r ≤ 0`: one max instruction. It keeps a −0, which every use below
+    // treats as +0: products with it compare alike, and `num` enters `cut` only through
+    // `num + slack` and `|num|`.)
+    let rhs_at = |r: f64| if clamp && 0.0 > r { 0.0 } else { r };
     // Minimum ratio num/den by cross-multiplication (no division per row); (1, 0) is +∞,
     // beaten by any eligible row.
     let mut best = usize::MAX;
@@ -739,7 +742,8 @@ fn lex_min_ratio(
     }
     // Row i ties when r_i/c_i ≤ θ + TIE_TOL·max(1, |θ|) with θ = num/den, i.e. (times
     // c_i·den > 0) r_i·den ≤ (num + slack)·c_i.
-    let slack = TIE_TOL * den.max(num.abs());
+    // (`den > tol ≥ 0` is not NaN: a plain comparison.)
+    let slack = TIE_TOL * lane_max(den, num.abs());
     let cut = num + slack;
     if prefer < n && col[prefer] > tol && rhs_at(rhs[prefer]) * den <= cut * col[prefer] {
         return Some(prefer);
