@@ -100,15 +100,13 @@ macro_rules! for_groups {
     ($len:expr, |$i:ident, $w:ident| $body:block) => {{
         let len: usize = $len;
         debug_assert!(len % 2 == 0);
-        let mut $i = 0;
-        while $i + 4 <= len {
-            {
-                const $w: usize = 4;
-                $body
-            }
-            $i += 4;
+        for g in 0..len / 4 {
+            let $i = 4 * g;
+            const $w: usize = 4;
+            $body
         }
-        if $i < len {
+        if len % 4 != 0 {
+            let $i = len - 2;
             const $w: usize = 2;
             $body
         }
@@ -159,6 +157,8 @@ impl OldColumn for Scaled<'_> {
 trait Hot: Copy {
     /// Whether rows `i..i + W` are the pivot row.
     fn lanes<const W: usize>(self, i: usize) -> [bool; W];
+    /// The same, for the first `len` rows only (the lanes then need no bounds check).
+    fn cut(self, len: usize) -> Self;
 }
 
 /// The pivot row by its index (small `n`: the compare of a constant row-index vector with
@@ -170,6 +170,10 @@ impl Hot for HotRow {
     #[inline(always)]
     fn lanes<const W: usize>(self, i: usize) -> [bool; W] {
         std::array::from_fn(|k| i + k == self.0)
+    }
+    #[inline(always)]
+    fn cut(self, _: usize) -> Self {
+        self
     }
 }
 
@@ -184,6 +188,10 @@ impl Hot for HotMask<'_> {
         let h = &self.0[i..i + W];
         std::array::from_fn(|k| marked(h[k]))
     }
+    #[inline(always)]
+    fn cut(self, len: usize) -> Self {
+        HotMask(&self.0[..len])
+    }
 }
 
 /// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
@@ -195,7 +203,7 @@ impl Hot for HotMask<'_> {
 #[inline(always)]
 fn update_column(x: &mut [f64], f: f64, yn: &[f64], hot: impl Hot, old: impl OldColumn) {
     let len = x.len();
-    let yn = &yn[..len];
+    let (yn, hot) = (&yn[..len], hot.cut(len));
     for_groups!(len, |i, W| {
         let xc = &mut x[i..i + W];
         let yc = &yn[i..i + W];
