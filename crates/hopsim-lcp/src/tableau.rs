@@ -3,7 +3,8 @@
 //!
 //! The tableau of `w − M z − d z0 = q` is column-major in one flat buffer of `2n + 2`
 //! columns: `[rhs | w_1..w_n (= B⁻¹) | z_1..z_n | z0]`, each padded with zero rows to
-//! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors. The `w`
+//! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors (groups
+//! of four rows, and a last pair when `n mod 4` is 1 or 2, see [`active_len`]). The `w`
 //! block is `B⁻¹` at every step, which is what the lexicographic test compares. A pivot
 //! updates only the right-hand side and the `n + 1` non-basic columns (kept in a list).
 //! The column of a basic variable is the unit vector of its row and is not stored: the
@@ -85,7 +86,8 @@ fn marked(h: f64) -> bool {
 /// an even number. A column is worked on in groups of four rows and, when `n mod 4` is 1
 /// or 2, a last pair: the two padding rows of such a column are never touched (on a
 /// 128-bit vector unit a four-row operation costs two, so the pair halves the last
-/// group's work). Rows from `n` to `active_len(n)` hold zeros; rows past it are stale
+/// group's work). Rows from `n` to `active_len(n)` are computed from zero padding like the
+/// others (zero unless a pivot was not finite) and enter no test; rows past it are stale
 /// and never read.
 #[inline(always)]
 pub(crate) const fn active_len(n: usize) -> usize {
