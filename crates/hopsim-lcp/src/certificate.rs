@@ -1,6 +1,6 @@
 //! The a-posteriori certificate of an LCP answer, computed from the original `M`, `q`.
 
-use crate::tableau::{leading_dim, set_padded, sub_scaled_padded};
+use crate::tableau::{active_len, leading_dim, set_padded, sub_scaled_padded, MAX_FIXED};
 use nalgebra::DMatrixView;
 use std::marker::PhantomData;
 
@@ -90,12 +90,19 @@ impl ProblemRef<'_> {
         self.m.col(j)[i]
     }
 
-    /// Certificate of `(z, w)`; `mz` is scratch of length `leading_dim(n)`. Allocates
-    /// nothing.
+    /// Certificate of `(z, w)`; `mz` is scratch of length at least `active_len(n)`, used
+    /// for `n > MAX_FIXED`. Allocates nothing.
     #[inline(always)]
     pub fn certify(&self, z: &[f64], w: &[f64], mz: &mut [f64]) -> Certificate {
         let n = self.q.len();
-        let (z, w, mz) = (&z[..n], &w[..n], &mut mz[..leading_dim(n)]);
+        let (z, w) = (&z[..n], &w[..n]);
+        // Small n: `M z + q` accumulates on the stack (registers), not through memory.
+        let mut local = [0.0; leading_dim(MAX_FIXED)];
+        let mz = if n <= MAX_FIXED {
+            &mut local[..active_len(n)]
+        } else {
+            &mut mz[..active_len(n)]
+        };
         set_padded(mz, 1.0, self.q);
         let mut z_norm: f64 = 0.0;
         for (j, &zj) in z.iter().enumerate() {

@@ -52,6 +52,7 @@ pub(crate) struct Settings {
 /// Runs the hot path for `(M, q)` with covering vector `work.cover`; writes `z`, `w`
 /// (length `n`). `M` is read in place (no copy). Errors on a non-finite entry.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub(crate) fn primary(
     work: &mut Work,
     m: MatRef<'_>,

@@ -3,7 +3,8 @@
 //!
 //! The tableau of `w − M z − d z0 = q` is column-major in one flat buffer of `2n + 2`
 //! columns: `[rhs | w_1..w_n (= B⁻¹) | z_1..z_n | z0]`, each padded with zero rows to
-//! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors. The `w`
+//! [`leading_dim`]`(n)` entries so the column updates run in whole SIMD vectors (groups
+//! of four rows, and a last pair when `n mod 4` is 1 or 2, see [`active_len`]). The `w`
 //! block is `B⁻¹` at every step, which is what the lexicographic test compares. A pivot
 //! updates only the right-hand side and the `n + 1` non-basic columns (kept in a list).
 //! The column of a basic variable is the unit vector of its row and is not stored: the
@@ -81,56 +82,173 @@ fn marked(h: f64) -> bool {
     (h.to_bits() as i64) < 0
 }
 
-/// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
-/// row mask, see [`set_hot`]) is marked, all in whole-group vector stores. (A scalar store
-/// into a column that the next pivot reads back with vector loads stalls store-to-load
-/// forwarding.) Takes `yn = −y` and adds `f·yn`, which is exactly `x − f·y` and compiles
-/// to one add per vector. The old values of group `g` are `old(g, stored group)`.
+/// Rows of a column that the vector code reads and writes for size `n`: `n` rounded up to
+/// an even number. A column is worked on in groups of four rows and, when `n mod 4` is 1
+/// or 2, a last pair: the two padding rows of such a column are never touched (on a
+/// 128-bit vector unit a four-row operation costs two, so the pair halves the last
+/// group's work). Rows from `n` to `active_len(n)` are computed from zero padding like the
+/// others (zero unless a pivot was not finite) and enter no test; rows past it are stale
+/// and never read.
 #[inline(always)]
-fn update_column(
-    x: &mut [f64],
-    f: f64,
-    yn: &[f64],
-    hot: &[f64],
-    old: impl Fn(usize, &[f64]) -> [f64; 4],
-) {
-    for (g, ((xc, yc), hc)) in x
-        .chunks_exact_mut(4)
-        .zip(yn.chunks_exact(4))
-        .zip(hot.chunks_exact(4))
-        .enumerate()
-    {
-        let xo = old(g, xc);
-        let mut v = [0.0; 4];
-        for k in 0..4 {
+pub(crate) const fn active_len(n: usize) -> usize {
+    (n + 1) & !1
+}
+
+/// Runs `$body` once per group of the first `$len` (even) rows of a column: with `$w = 4`
+/// for each whole group of four, then with `$w = 2` for a last pair if `$len mod 4 = 2`;
+/// `$i` is the group's first row. (`$w` is a constant, so each group is one vector
+/// operation: 256 bits, or 128 for the pair.)
+macro_rules! for_groups {
+    ($len:expr, |$i:ident, $w:ident| $body:block) => {{
+        let len: usize = $len;
+        debug_assert!(len % 2 == 0);
+        for g in 0..len / 4 {
+            let $i = 4 * g;
+            const $w: usize = 4;
+            $body
+        }
+        if len % 4 != 0 {
+            let $i = len - 2;
+            const $w: usize = 2;
+            $body
+        }
+    }};
+}
+
+/// The values a column held before a pivot update, one group at a time (see
+/// [`update_column`]).
+trait OldColumn {
+    /// Rows `i..i + W`; `stored` is what the buffer holds there.
+    fn group<const W: usize>(&self, i: usize, stored: &[f64]) -> [f64; W];
+}
+
+/// The column as stored.
+struct Stored;
+
+impl OldColumn for Stored {
+    #[inline(always)]
+    fn group<const W: usize>(&self, _: usize, stored: &[f64]) -> [f64; W] {
+        std::array::from_fn(|k| stored[k])
+    }
+}
+
+/// A unit vector's column outside the pivot row: zeros (the buffer is not read).
+struct Zeros;
+
+impl OldColumn for Zeros {
+    #[inline(always)]
+    fn group<const W: usize>(&self, _: usize, _: &[f64]) -> [f64; W] {
+        [0.0; W]
+    }
+}
+
+/// The column `s·src`, zero padded (computed, not stored first).
+struct Scaled<'a> {
+    s: f64,
+    src: &'a [f64],
+}
+
+impl OldColumn for Scaled<'_> {
+    #[inline(always)]
+    fn group<const W: usize>(&self, i: usize, _: &[f64]) -> [f64; W] {
+        map_group(self.src, i, |_, v| self.s * v)
+    }
+}
+
+/// Which row is the pivot row, for [`update_column`].
+trait Hot: Copy {
+    /// Whether rows `i..i + W` are the pivot row.
+    fn lanes<const W: usize>(self, i: usize) -> [bool; W];
+    /// The same, for the first `len` rows only (the lanes then need no bounds check).
+    fn cut(self, len: usize) -> Self;
+}
+
+/// The pivot row by its index (small `n`: the compare of a constant row-index vector with
+/// `r` stays in registers, no mask goes through memory).
+#[derive(Clone, Copy)]
+struct HotRow(usize);
+
+impl Hot for HotRow {
+    #[inline(always)]
+    fn lanes<const W: usize>(self, i: usize) -> [bool; W] {
+        std::array::from_fn(|k| i + k == self.0)
+    }
+    #[inline(always)]
+    fn cut(self, _: usize) -> Self {
+        self
+    }
+}
+
+/// The pivot row by a one-hot mask made by [`set_hot`] (large `n`: a loop of unknown trip
+/// count reads the mask instead of comparing indices).
+#[derive(Clone, Copy)]
+struct HotMask<'a>(&'a [f64]);
+
+impl Hot for HotMask<'_> {
+    #[inline(always)]
+    fn lanes<const W: usize>(self, i: usize) -> [bool; W] {
+        let h = &self.0[i..i + W];
+        std::array::from_fn(|k| marked(h[k]))
+    }
+    #[inline(always)]
+    fn cut(self, len: usize) -> Self {
+        HotMask(&self.0[..len])
+    }
+}
+
+/// Pivot update of one column: `x ← x − f·y` except `x_r ← f` where `hot` (a one-hot
+/// row mask, see [`set_hot`]) is marked, all in whole-group vector stores (see
+/// [`for_groups`]; `x` is cut to [`active_len`]). (A scalar store into a column that the
+/// next pivot reads back with vector loads stalls store-to-load forwarding.) Takes
+/// `yn = −y` and adds `f·yn`, which is exactly `x − f·y` and compiles to one add per
+/// vector. The old values come from `old`.
+#[inline(always)]
+fn update_column(x: &mut [f64], f: f64, yn: &[f64], hot: impl Hot, old: impl OldColumn) {
+    let len = x.len();
+    let (yn, hot) = (&yn[..len], hot.cut(len));
+    for_groups!(len, |i, W| {
+        let xc = &mut x[i..i + W];
+        let yc = &yn[i..i + W];
+        let xo: [f64; W] = old.group(i, xc);
+        let hk: [bool; W] = hot.lanes(i);
+        let mut v = [0.0; W];
+        for k in 0..W {
             let e = xo[k] + f * yc[k];
-            v[k] = if marked(hc[k]) { f } else { e };
+            v[k] = if hk[k] { f } else { e };
         }
         xc.copy_from_slice(&v);
-    }
+    });
 }
 
 /// [`update_column`] of the stored column `x`, with `f = x_r / p`.
 #[inline(always)]
-fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: &[f64]) {
-    update_column(x, f, yn, hot, |_, xc| [xc[0], xc[1], xc[2], xc[3]]);
+fn eliminate(x: &mut [f64], f: f64, yn: &[f64], hot: impl Hot) {
+    update_column(x, f, yn, hot, Stored);
 }
 
 /// [`update_column`] of a column that was the unit vector `e_r` (not stored), so
 /// `f = 1/p`: written without reading `x`.
 #[inline(always)]
-fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: &[f64]) {
-    update_column(x, inv, yn, hot, |_, _| [0.0; 4]);
+fn eliminate_unit(x: &mut [f64], inv: f64, yn: &[f64], hot: impl Hot) {
+    update_column(x, inv, yn, hot, Zeros);
 }
 
-/// Column `c` (of `ld` entries) of the tableau `tab` (`2n + 2` columns); `c` is the
-/// right-hand side or `1 +` a variable `< 2n + 1`, so always in range.
+/// [`eliminate`] of the stored column `x` with `f = x_r · inv`, on `yn.len()` rows.
 #[inline(always)]
-fn column_mut(tab: &mut [f64], ld: usize, c: usize) -> &mut [f64] {
-    debug_assert!((c + 1) * ld <= tab.len());
-    // SAFETY: the callers pass `c ≤ 2n + 1` with `tab.len() = (2n + 2)·ld` (checked in
-    // debug builds above): no bounds check per column update.
-    unsafe { tab.get_unchecked_mut(c * ld..(c + 1) * ld) }
+fn eliminate_row(x: &mut [f64], r: usize, inv: f64, yn: &[f64], hot: impl Hot) {
+    let x = &mut x[..yn.len()];
+    let f = x[r] * inv;
+    eliminate(x, f, yn, hot);
+}
+
+/// Column `c` of the tableau `tab` (`2n + 2` columns of stride `ld`), its first `la`
+/// rows; `c` is the right-hand side or `1 +` a variable `< 2n + 1`, so always in range.
+#[inline(always)]
+fn column_mut(tab: &mut [f64], ld: usize, la: usize, c: usize) -> &mut [f64] {
+    debug_assert!((c + 1) * ld <= tab.len() && la <= ld);
+    // SAFETY: the callers pass `c ≤ 2n + 1` with `tab.len() = (2n + 2)·ld` and `la ≤ ld`
+    // (checked in debug builds above): no bounds check per column update.
+    unsafe { tab.get_unchecked_mut(c * ld..c * ld + la) }
 }
 
 /// [`update_column`] of the column `s·src` (zero padded) as if it had been stored first:
@@ -144,58 +262,67 @@ fn eliminate_loaded(
     r: usize,
     inv: f64,
     yn: &[f64],
-    hot: &[f64],
+    hot: impl Hot,
 ) {
     let f = (s * src[r]) * inv;
-    update_column(x, f, yn, hot, |g, _| map_group(src, g, |_, v| s * v));
+    update_column(x, f, yn, hot, Scaled { s, src });
 }
 
-/// `x ← −y` in whole-group vector stores (see [`eliminate`]).
+/// `x ← −y` on the first `x.len()` (even) rows, in whole-group vector stores (see
+/// [`eliminate`]).
 #[inline(always)]
 fn negate_into(x: &mut [f64], y: &[f64]) {
-    for (xc, yc) in x.chunks_exact_mut(4).zip(y.chunks_exact(4)) {
-        xc.copy_from_slice(&[-yc[0], -yc[1], -yc[2], -yc[3]]);
-    }
+    let len = x.len();
+    let y = &y[..len];
+    for_groups!(len, |i, W| {
+        let v: [f64; W] = std::array::from_fn(|k| -y[i + k]);
+        x[i..i + W].copy_from_slice(&v);
+    });
 }
 
-/// The one-hot mask of row `r` (see [`marked`]) in whole-group vector stores.
+/// The one-hot mask of row `r` (see [`marked`]) on the first `x.len()` (even) rows, in
+/// whole-group vector stores.
 #[inline(always)]
 fn set_hot(x: &mut [f64], r: usize) {
     let (gr, hot) = (r / 4, &ONE_HOT[r % 4]);
-    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
-        xc.copy_from_slice(if g == gr { hot } else { &[0.0; 4] });
-    }
+    for_groups!(x.len(), |i, W| {
+        x[i..i + W].copy_from_slice(if i / 4 == gr { &hot[..W] } else { &[0.0; W] });
+    });
 }
 
-/// `x ← f·src` on the first `src.len()` entries and zero on the rest of `x`, in whole-group
-/// vector stores (see [`eliminate`]).
+/// `x ← f·src` on the first `src.len()` entries and zero on the rest of `x` (of even
+/// length), in whole-group vector stores (see [`eliminate`]).
 #[inline(always)]
 pub(crate) fn set_padded(x: &mut [f64], f: f64, src: &[f64]) {
-    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
-        let v = map_group(src, g, |_, s| f * s);
-        xc.copy_from_slice(&v);
-    }
+    for_groups!(x.len(), |i, W| {
+        let v: [f64; W] = map_group(src, i, |_, s| f * s);
+        x[i..i + W].copy_from_slice(&v);
+    });
 }
 
-/// `x ← x − f·src` on the first `src.len()` entries and zero on the rest of `x`, in
-/// whole-group vector stores (see [`eliminate`]).
+/// `x ← x − f·src` on the first `src.len()` entries and zero on the rest of `x` (of even
+/// length), in whole-group vector stores (see [`eliminate`]).
 #[inline(always)]
 pub(crate) fn sub_scaled_padded(x: &mut [f64], f: f64, src: &[f64]) {
-    for (g, xc) in x.chunks_exact_mut(4).enumerate() {
-        let v = map_group(src, g, |k, s| xc[k] - f * s);
+    for_groups!(x.len(), |i, W| {
+        let xc = &mut x[i..i + W];
+        let v: [f64; W] = map_group(src, i, |k, s| xc[k] - f * s);
         xc.copy_from_slice(&v);
-    }
+    });
 }
 
-/// `[h(k, src[4g + k])]` for `k < 4`, zero past the end of `src`: whole groups without a
+/// `[h(k, src[i + k])]` for `k < W`, zero past the end of `src`: whole groups without a
 /// test per entry (the padded tail of a dynamic size would pay one).
 #[inline(always)]
-fn map_group(src: &[f64], g: usize, mut h: impl FnMut(usize, f64) -> f64) -> [f64; 4] {
-    let i = 4 * g;
-    let mut v = [0.0; 4];
-    if i + 4 <= src.len() {
-        let s = &src[i..i + 4];
-        for k in 0..4 {
+fn map_group<const W: usize>(
+    src: &[f64],
+    i: usize,
+    mut h: impl FnMut(usize, f64) -> f64,
+) -> [f64; W] {
+    let mut v = [0.0; W];
+    if i + W <= src.len() {
+        let s = &src[i..i + W];
+        for k in 0..W {
             v[k] = h(k, s[k]);
         }
     } else {
@@ -356,20 +483,22 @@ pub(crate) fn matrix_norm(n: usize, m: MatRef<'_>, row_sum: &mut [f64]) -> f64 {
         &mut row_sum[..ld]
     };
     row_sum.fill(0.0);
+    let la = active_len(n);
     for j in 0..n {
-        add_abs_column(row_sum, &m.col(j)[..n]);
+        add_abs_column(&mut row_sum[..la], &m.col(j)[..n]);
     }
     norm_of_row_sums(row_sum)
 }
 
-/// `row_sum ← row_sum + |col|` entrywise (`row_sum` padded to a multiple of 4, `col` not),
-/// in whole groups.
+/// `row_sum ← row_sum + |col|` entrywise (`row_sum` of even length, padded, `col` not),
+/// in whole groups (see [`for_groups`]).
 #[inline(always)]
 pub(crate) fn add_abs_column(row_sum: &mut [f64], col: &[f64]) {
-    for (g, s4) in row_sum.chunks_exact_mut(4).enumerate() {
-        let v = map_group(col, g, |k, c| s4[k] + c.abs());
-        s4.copy_from_slice(&v);
-    }
+    for_groups!(row_sum.len(), |i, W| {
+        let sc = &mut row_sum[i..i + W];
+        let v: [f64; W] = map_group(col, i, |k, c| sc[k] + c.abs());
+        sc.copy_from_slice(&v);
+    });
 }
 
 /// `‖M‖_∞` from the absolute row sums of `M` (padded with zeros to a multiple of 4):
@@ -411,8 +540,7 @@ fn lane_max(a: f64, b: f64) -> f64 {
 /// enters at once and stays basic until it leaves, which ends the run).
 #[inline(always)]
 pub(crate) fn load(n: usize, t: &mut Parts<'_>, q: &[f64], q_inv: f64, m_norm: f64) -> f64 {
-    let ld = leading_dim(n);
-    set_padded(&mut t.tab[..ld], q_inv, &q[..n]);
+    set_padded(&mut t.tab[..active_len(n)], q_inv, &q[..n]);
     for (i, b) in t.basis[..n].iter_mut().enumerate() {
         *b = i;
     }
@@ -458,7 +586,7 @@ fn pivot_loop_slices(
     m_inv: f64,
     max_pivots: usize,
 ) -> (Ending, usize) {
-    let ld = leading_dim(n);
+    let (ld, la) = (leading_dim(n), active_len(n));
     let z0 = 2 * n;
     let tab = &mut tab[..ld * (2 * n + 2)];
     let basis = &mut basis[..n];
@@ -487,7 +615,7 @@ fn pivot_loop_slices(
     let Some(r) = lex_min_ratio(n, lex, cover, 0.0, false, usize::MAX, ties) else {
         return (Ending::Breakdown, 0);
     };
-    set_padded(col, 1.0, cover); // −(−d)
+    set_padded(&mut col[..la], 1.0, cover); // −(−d)
     let load_z = Some((m, m_inv));
     pivot(
         hot, n, ld, tab, basis, nonbasic, nb_pos, col, -cover[r], r, z0, load_z,
@@ -509,18 +637,19 @@ fn pivot_loop_slices(
         let c = 1 + entering;
         // The ratio test reads the entering column in place: a fresh vector copy read back
         // element by element would stall store-to-load forwarding.
-        let entering_col = &tab[c * ld..(c + 1) * ld];
+        let entering_col = &tab[c * ld..c * ld + la];
         // Four independent running maxima (a single chain is latency-bound). A NaN entry
         // is skipped here, never eligible in the ratio test, and caught by the finiteness
         // checks on the pivot row and the extracted solution.
         let mut max4 = [1.0_f64; 4];
-        for c4 in entering_col.chunks_exact(4) {
-            for k in 0..4 {
-                let a = c4[k].abs();
+        for_groups!(la, |i, W| {
+            for k in 0..W {
+                let a = entering_col[i + k].abs();
                 max4[k] = if a > max4[k] { a } else { max4[k] };
             }
-        }
-        let col_max = max4[0].max(max4[1]).max(max4[2].max(max4[3]));
+        });
+        // (The lanes hold no NaN: plain comparisons.)
+        let col_max = lane_max(lane_max(max4[0], max4[1]), lane_max(max4[2], max4[3]));
         let tol = PIV_TOL * col_max;
         let lex = Lex {
             ld,
@@ -533,7 +662,7 @@ fn pivot_loop_slices(
             return (Ending::Ray, pivots);
         };
         let p = entering_col[r];
-        negate_into(col, entering_col);
+        negate_into(&mut col[..la], entering_col);
         leaving = basis[r];
         pivot(
             hot, n, ld, tab, basis, nonbasic, nb_pos, col, p, r, entering, None,
@@ -602,7 +731,10 @@ fn lex_min_ratio(
 ) -> Option<usize> {
     let rhs = &lex.tab[..n];
     let col = &col[..n];
-    let rhs_at = |r: f64| if clamp && r <= 0.0 { 0.0 } else { r };
+    // (`0 > r`, not `r ≤ 0`: one max instruction. It keeps a −0, which every use below
+    // treats as +0: products with it compare alike, and `num` enters `cut` only through
+    // `num + slack` and `|num|`.)
+    let rhs_at = |r: f64| if clamp && 0.0 > r { 0.0 } else { r };
     // Minimum ratio num/den by cross-multiplication (no division per row); (1, 0) is +∞,
     // beaten by any eligible row.
     let mut best = usize::MAX;
@@ -620,7 +752,8 @@ fn lex_min_ratio(
     }
     // Row i ties when r_i/c_i ≤ θ + TIE_TOL·max(1, |θ|) with θ = num/den, i.e. (times
     // c_i·den > 0) r_i·den ≤ (num + slack)·c_i.
-    let slack = TIE_TOL * den.max(num.abs());
+    // (`den > tol ≥ 0` is not NaN: a plain comparison.)
+    let slack = TIE_TOL * lane_max(den, num.abs());
     let cut = num + slack;
     if prefer < n && col[prefer] > tol && rhs_at(rhs[prefer]) * den <= cut * col[prefer] {
         return Some(prefer);
@@ -635,7 +768,21 @@ fn lex_min_ratio(
     if count <= 1 {
         return Some(best);
     }
-    Some(break_ties(n, lex, col, &mut ties[..count]))
+    let Lex {
+        ld,
+        tab,
+        basis,
+        nb_pos,
+    } = lex;
+    Some(break_ties(
+        n,
+        ld,
+        tab,
+        basis,
+        nb_pos,
+        col,
+        &mut ties[..count],
+    ))
 }
 
 /// Lexicographic tie-break on the rows of `B⁻¹` (the w-columns), column by column; the
@@ -643,13 +790,16 @@ fn lex_min_ratio(
 /// basic `w_k` is the unit vector of its row (not stored).
 #[cold]
 #[inline(never)]
-fn break_ties(n: usize, lex: Lex<'_>, col: &[f64], ties: &mut [usize]) -> usize {
-    let Lex {
-        ld,
-        tab,
-        basis,
-        nb_pos,
-    } = lex;
+#[allow(clippy::too_many_arguments)]
+fn break_ties(
+    n: usize,
+    ld: usize,
+    tab: &[f64],
+    basis: &[usize],
+    nb_pos: &[usize],
+    col: &[f64],
+    ties: &mut [usize],
+) -> usize {
     let mut count = ties.len();
     for k in 0..n {
         if nb_pos[k] == usize::MAX {
@@ -711,25 +861,55 @@ fn pivot(
     nb_pos[leaving] = slot;
     nb_pos[entering] = usize::MAX;
 
-    let col = &col[..ld];
+    let la = active_len(n);
+    let col = &col[..la];
     let inv = 1.0 / p;
-    let mut hot_local = [0.0; leading_dim(MAX_FIXED)];
-    let hot = if ld <= hot_local.len() {
-        &mut hot_local[..ld]
-    } else {
-        &mut hot_buf[..ld]
-    };
-    set_hot(hot, r);
-    let hot = &*hot;
     let tab = &mut tab[..ld * (2 * n + 2)];
-    // A slice argument: when the closure is not inlined (large n), its arguments do not
-    // alias, so the update needs no overlap checks.
-    let update = |column: &mut [f64]| {
-        let column = &mut column[..ld];
-        let f = column[r] * inv;
-        eliminate(column, f, col, hot);
-    };
-    update(&mut tab[..ld]);
+    let nonbasic = &nonbasic[..];
+    if n <= MAX_FIXED {
+        pivot_updates(
+            n,
+            ld,
+            tab,
+            nonbasic,
+            slot,
+            leaving,
+            col,
+            r,
+            inv,
+            load_z,
+            HotRow(r),
+        );
+    } else {
+        let hot = &mut hot_buf[..la];
+        set_hot(hot, r);
+        let hot = &*hot;
+        let hot = HotMask(hot);
+        pivot_updates(
+            n, ld, tab, nonbasic, slot, leaving, col, r, inv, load_z, hot,
+        );
+    }
+}
+
+/// The column updates of [`pivot`]: the right-hand side, the non-basic columns (those of z
+/// computed from `M` at the first pivot) and the leaving variable's column.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pivot_updates(
+    n: usize,
+    ld: usize,
+    tab: &mut [f64],
+    nonbasic: &[usize],
+    slot: usize,
+    leaving: usize,
+    col: &[f64],
+    r: usize,
+    inv: f64,
+    load_z: Option<(MatRef<'_>, f64)>,
+    hot: impl Hot,
+) {
+    let la = active_len(n);
+    eliminate_row(&mut tab[..la], r, inv, col, hot);
     match load_z {
         // First pivot (z0 enters, nonbasic = [z_1..z_n, w_r]): the columns of z, −M·m_inv,
         // are computed from M and updated in one pass instead of loaded, then updated.
@@ -738,26 +918,18 @@ fn pivot(
                 debug_assert_eq!(v, n + j);
                 let c = 1 + v;
                 let src = &m.col(j)[..n];
-                eliminate_loaded(
-                    &mut tab[c * ld..(c + 1) * ld],
-                    -m_inv,
-                    src,
-                    r,
-                    inv,
-                    col,
-                    hot,
-                );
+                eliminate_loaded(&mut tab[c * ld..c * ld + la], -m_inv, src, r, inv, col, hot);
             }
         }
         None => {
             for &v in &nonbasic[..slot] {
-                update(column_mut(tab, ld, 1 + v));
+                eliminate_row(column_mut(tab, ld, la, 1 + v), r, inv, col, hot);
             }
             for &v in &nonbasic[slot + 1..] {
-                update(column_mut(tab, ld, 1 + v));
+                eliminate_row(column_mut(tab, ld, la, 1 + v), r, inv, col, hot);
             }
         }
     }
     let c = 1 + leaving;
-    eliminate_unit(&mut tab[c * ld..(c + 1) * ld], inv, col, hot);
+    eliminate_unit(&mut tab[c * ld..c * ld + la], inv, col, hot);
 }
