@@ -4,6 +4,7 @@
 //! One pass over the bodies (parents before children) computes everything; each body's
 //! rotation `(sin θ, cos θ)` is evaluated once and only for bodies whose geometry needs it.
 
+use crate::contact::DiscOnLine;
 use crate::{perp, JointCoordinate, JointKind, Model, Vec2};
 use nalgebra::{DVector, DVectorViewMut};
 
@@ -76,6 +77,9 @@ pub struct Kinematics {
     dof: usize,
     /// Pose, velocity, rotation, bias and joint state of each body.
     frames: Vec<BodyFrame>,
+    /// The shortcut of each potential terrain contact that is a circle on a line without
+    /// ends (see [`Model::contact_geometry`]).
+    discs_on_lines: Vec<Option<DiscOnLine>>,
     /// Row-major `3B × n`: rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`.
     jacobian: Vec<f64>,
     /// Sorted columns of the structurally non-zero entries of Jacobian row `r`:
@@ -144,6 +148,9 @@ impl Kinematics {
         Self {
             dof: model.dof(),
             frames,
+            discs_on_lines: (0..model.contacts.len())
+                .map(|i| DiscOnLine::new(model, i))
+                .collect(),
             jacobian: vec![0.0; 3 * nb * model.dof()],
             pattern,
             pattern_start,
@@ -381,6 +388,12 @@ impl Kinematics {
     #[inline]
     pub fn velocity(&self, b: usize) -> Vec2 {
         self.frames[b].velocity
+    }
+
+    /// The shortcut of potential contact `i` if it is a circle on a line without ends.
+    #[inline]
+    pub(crate) fn disc_on_line(&self, i: usize) -> Option<&DiscOnLine> {
+        self.discs_on_lines.get(i).and_then(Option::as_ref)
     }
 
     /// Number of bodies.

@@ -544,9 +544,15 @@ impl Model {
         )
     }
 
-    /// Geometry of potential contact `i` (needs `kinematics.update` first).
+    /// Geometry of potential contact `i` (needs `kinematics.update` first). A circle on a
+    /// line without ends takes the shortcut that `Kinematics::new` resolved for it, with
+    /// the same result bit for bit (docs/physics.md §2).
     #[inline]
     pub fn contact_geometry(&self, kinematics: &Kinematics, i: usize) -> Option<ContactGeometry> {
+        if let Some(disc) = kinematics.disc_on_line(i) {
+            let body = disc.body;
+            return disc.geometry(kinematics.position(body), kinematics.rotation(body));
+        }
         let c = &self.contacts[i];
         let inst = &self.shapes[c.shape];
         contact_geometry(

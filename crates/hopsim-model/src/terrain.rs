@@ -3,7 +3,7 @@
 use crate::Vec2;
 
 /// One piece of terrain a shape can touch.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum TerrainFeature {
     /// The straight piece `origin + s t`, `s ∈ [from, to]` (either may be infinite), with
     /// unit outward normal `normal` and tangent `t = (n_y, -n_x)` (docs/physics.md §1, §2).

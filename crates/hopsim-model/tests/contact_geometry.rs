@@ -526,3 +526,46 @@ proptest! {
         prop_assert!(got.iter().all(|c| (c.2.point - p).norm() < 1e-15));
     }
 }
+
+/// A line through `origin` with unit normal `normal` and ends at `from`, `to`.
+fn line(origin: Vec2, normal: Vec2, from: f64, to: f64) -> Terrain {
+    Terrain {
+        features: vec![TerrainFeature::Line {
+            origin,
+            normal,
+            from,
+            to,
+        }],
+    }
+}
+
+proptest! {
+    /// An eccentric disc (centre `(0, a)` in the body frame, docs/physics.md §2) on a line
+    /// without ends: the contact is the disc's lowest point along the normal, the gap the
+    /// centre's height above the line less `R`, the centre at `(x − a sin φ, y + a cos φ)`
+    /// (on flat ground `g_N = y + a cos φ − R`). The same disc on the same line with ends far away
+    /// (which the general contact search handles) gives the same geometry, bit for bit.
+    #[test]
+    fn eccentric_disc_on_a_line_without_ends(
+        x in -3.0..3.0f64,
+        y in -0.3..0.6f64,
+        phi in -20.0..20.0f64,
+        a in 0.0..0.15f64,
+        slope in -0.5..0.5f64,
+    ) {
+        let radius = 0.2;
+        let disc = Shape::Circle { center: Vec2::new(0.0, a), radius };
+        let (origin, normal) = (Vec2::new(0.1, -0.05), rotate(slope, Vec2::new(0.0, 1.0)));
+        let endless = line(origin, normal, f64::NEG_INFINITY, f64::INFINITY);
+        let ended = line(origin, normal, -1e6, 1e6);
+        let pose = [x, y, phi];
+        let (m_endless, m_ended) = (model(disc.clone(), endless), model(disc, ended));
+        let g = m_endless.contact_geometry(&workspace(&m_endless, pose), 0).unwrap();
+        let reference = m_ended.contact_geometry(&workspace(&m_ended, pose), 0).unwrap();
+        prop_assert_eq!(g, reference);
+        let centre = Vec2::new(x - a * phi.sin(), y + a * phi.cos());
+        prop_assert!((g.gap - ((centre - origin).dot(&normal) - radius)).abs() < 1e-12);
+        prop_assert!((g.point - (centre - radius * normal)).norm() < 1e-12);
+        prop_assert_eq!(g.normal, normal);
+    }
+}
