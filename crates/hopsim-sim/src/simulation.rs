@@ -40,6 +40,8 @@ pub struct Simulation<'s> {
     loaded: bool,
     /// Per contact: whether it belongs to a switchable shape (a cane).
     switchable_contact: Vec<bool>,
+    /// Whether any contact does (without, no step looks for a shape's first contact).
+    any_switchable: bool,
     /// Per contact: whether it carried load in the previous step, and in this one.
     was_loaded: Vec<bool>,
     loaded_now: Vec<bool>,
@@ -71,7 +73,7 @@ impl<'s> Simulation<'s> {
         stepper.start(model, &scene.initial);
         let controller = scene.controller.build(model);
         let state = scene.initial.clone();
-        let switchable_contact = model
+        let switchable_contact: Vec<bool> = model
             .contacts
             .iter()
             .map(|c| scene.switchable.contains(&c.shape))
@@ -88,6 +90,7 @@ impl<'s> Simulation<'s> {
             shapes_active,
             flight: FlightTracker::default(),
             loaded: true,
+            any_switchable: switchable_contact.contains(&true),
             switchable_contact,
             was_loaded: vec![false; contacts],
             loaded_now: vec![false; contacts],
@@ -260,26 +263,28 @@ impl<'s> Simulation<'s> {
         }
         self.loaded = record.in_contact();
         // A switchable shape's contact (the cane's tip) starting to carry load.
-        self.loaded_now.fill(false);
-        for c in record
-            .contacts
-            .iter()
-            .filter(|c| c.state != ContactState::Open)
-        {
-            self.loaded_now[c.contact] = true;
-        }
-        for (i, c) in model.contacts.iter().enumerate() {
-            if self.switchable_contact[i] && self.loaded_now[i] && !self.was_loaded[i] {
-                self.events.push(Event {
-                    t: record.t,
-                    step: record.step,
-                    kind: EventKind::ShapeContact {
-                        contact: c.name.clone(),
-                    },
-                });
+        if self.any_switchable {
+            self.loaded_now.fill(false);
+            for c in record
+                .contacts
+                .iter()
+                .filter(|c| c.state != ContactState::Open)
+            {
+                self.loaded_now[c.contact] = true;
             }
+            for (i, c) in model.contacts.iter().enumerate() {
+                if self.switchable_contact[i] && self.loaded_now[i] && !self.was_loaded[i] {
+                    self.events.push(Event {
+                        t: record.t,
+                        step: record.step,
+                        kind: EventKind::ShapeContact {
+                            contact: c.name.clone(),
+                        },
+                    });
+                }
+            }
+            std::mem::swap(&mut self.was_loaded, &mut self.loaded_now);
         }
-        std::mem::swap(&mut self.was_loaded, &mut self.loaded_now);
         let (step, min_gap) = (record.step, record.min_gap);
         match self.flight.update(self.state.t, step, self.loaded, min_gap) {
             Some(FlightEvent::TakeOff { t, step }) => self.events.push(Event {
