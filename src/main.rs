@@ -36,21 +36,47 @@ fn main() -> ExitCode {
     restore_default_sigpipe();
     let cli = Cli::parse();
     cmd::interrupt::install();
-    let result = match cli.command {
+    report_panics_briefly();
+    // Runs catch panics in their steps themselves (an internal error with the step and the
+    // partial recordings kept); this catches the rest, so that a bug still ends with the
+    // documented exit code.
+    let result = std::panic::catch_unwind(|| match cli.command {
         Command::Run(args) => cmd::run::run(args),
         Command::Sweep(args) => cmd::sweep::run(args),
         Command::Scene(args) => cmd::scene::run(args),
         Command::Lcp(args) => cmd::lcp::run(args),
         Command::Analyze(args) => cmd::analyze::run(args),
         Command::Compare(args) => cmd::compare::run(args),
-    };
+    });
     match result {
-        Ok(code) => code,
-        Err(err) => {
+        Ok(Ok(code)) => code,
+        Ok(Err(err)) => {
             eprintln!("error: {}", error_chain(&err));
             ExitCode::FAILURE
         }
+        Err(payload) => {
+            eprintln!(
+                "error: internal error: {}. This is a bug in hopsim; please report it with \
+                 the command line and its input files",
+                hopsim_sim::panic_message(payload.as_ref())
+            );
+            ExitCode::from(cmd::exit::INTERNAL_ERROR)
+        }
     }
+}
+
+/// A panic (a bug) prints one line with its place, not a backtrace per sweep run, unless
+/// `RUST_BACKTRACE` asks for one.
+fn report_panics_briefly() {
+    if std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0") {
+        return;
+    }
+    std::panic::set_hook(Box::new(|info| {
+        let place = info
+            .location()
+            .map_or_else(String::new, |l| format!(" at {}:{}", l.file(), l.line()));
+        eprintln!("hopsim: internal error{place} (set RUST_BACKTRACE=1 for a backtrace)");
+    }));
 }
 
 /// The error and its causes, `: `-separated, leaving out a cause whose text the message

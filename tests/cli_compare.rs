@@ -138,6 +138,7 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
         dt: 1e-3,
         weight_newtons: 9.81,
         actuated: false,
+        actuator: hopsim_record::ActuatorQuantity::Torque,
     };
     let mut recorder = Box::new(McapRecorder::create(path, &info).unwrap());
     for step in (1..=50).step_by(5) {

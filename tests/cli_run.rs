@@ -409,16 +409,105 @@ fn an_interrupted_run_keeps_its_recordings_under_partial_names() {
     }
 }
 
-/// A second Ctrl-C 50 ms after the first ends the process at once: whatever it had not
-/// yet kept is removed, and nothing complete-looking or temporary is left.
+/// A second Ctrl-C 50 ms after the first ends the process at once, but not while the
+/// run keeps its recordings: they are all kept or none is (never a subset), and nothing
+/// complete-looking or temporary is left.
 #[cfg(unix)]
 #[test]
 fn repeated_interrupts_leave_no_complete_or_temporary_file() {
-    let (out, left) = interrupted_run(&[libc::SIGINT, libc::SIGINT]);
-    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
-    for name in names(&left) {
-        assert!(PARTIAL_RECORDINGS.contains(&name.as_str()), "left {name}");
+    for _ in 0..3 {
+        let (out, left) = interrupted_run(&[libc::SIGINT, libc::SIGINT]);
+        assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+        let left = names(&left);
+        assert!(
+            left.is_empty() || left == PARTIAL_RECORDINGS,
+            "left {left:?}: {}",
+            text(&out.stderr)
+        );
     }
+}
+
+/// A panic inside a step (forced with the test hook `HOPSIM_PANIC_AT_STEP`) is an internal
+/// error: exit code 4, the step named, the recordings up to it kept under partial names.
+#[test]
+fn a_panic_in_a_step_is_an_internal_error_that_keeps_the_recordings() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("r.mcap").display().to_string();
+    let out = Command::new(env!("CARGO_BIN_EXE_hopsim"))
+        .args([
+            "run",
+            "scenes/robbit.toml",
+            "--duration",
+            "1",
+            "--mcap",
+            &mcap,
+        ])
+        .env("HOPSIM_PANIC_AT_STEP", "300")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(4), "{err}");
+    assert!(
+        err.contains("internal error in step 300") && err.contains("please report"),
+        "{err}"
+    );
+    assert_eq!(names(&files_in(dir.path())), ["r.partial.mcap"], "{err}");
+}
+
+/// A run of a sweep that panics is one failed row; the others and the table are complete.
+#[test]
+fn a_panic_in_one_sweep_run_is_one_failed_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("sweep");
+    // At Δt = 2e-4 s the 0.1 s run takes 500 steps and ends before step 1000; the
+    // 0.5 s run panics there.
+    let out = Command::new(env!("CARGO_BIN_EXE_hopsim"))
+        .args([
+            "sweep",
+            "scenes/robbit.toml",
+            "--grid",
+            "simulation.duration=0.1,0.5",
+        ])
+        .args(["--out", &out_dir.display().to_string(), "--quiet"])
+        .env("HOPSIM_PANIC_AT_STEP", "1000")
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let csv = std::fs::read_to_string(out_dir.join("sweep.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    assert!(rows[1].starts_with("grid,0.1,ok,"), "{}", rows[1]);
+    assert!(
+        rows[2].starts_with("grid,0.5,error,") && rows[2].contains("internal error in step 1000"),
+        "{}",
+        rows[2]
+    );
+}
+
+/// A pulse on a prismatic joint is a force everywhere: `scene check` says so in N, and the
+/// CSV column is `actuator_force_N`.
+#[test]
+fn a_prismatic_pulse_is_a_force() {
+    let check = hopsim(&["scene", "check", "scenes/classic/hopper-driven.toml"]);
+    let stdout = text(&check.stdout);
+    assert!(stdout.contains("force pulse on 'foot' (±2 N"), "{stdout}");
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("h.csv");
+    let out = hopsim(&[
+        "run",
+        "scenes/classic/hopper-driven.toml",
+        "--duration",
+        "0.01",
+        "--csv",
+        &csv.display().to_string(),
+        "-q",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let header = std::fs::read_to_string(&csv).unwrap();
+    let header = header.lines().next().unwrap();
+    assert!(header.ends_with(",actuator_force_N"), "{header}");
 }
 
 #[test]

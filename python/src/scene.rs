@@ -346,7 +346,12 @@ impl PyScene {
             ControllerConfig::Pulse(c) => {
                 d.set_item("type", "pulse")?;
                 d.set_item("joint_body", c.joint_body)?;
-                d.set_item("torque", c.torque)?;
+                let key = if c.drives_force(&self.scene.model) {
+                    "force"
+                } else {
+                    "torque"
+                };
+                d.set_item(key, c.torque)?;
                 d.set_item("pulse_duration", c.pulse_duration)?;
                 d.set_item("period", c.period)?;
                 d.set_item("cane_shape", c.cane_shape)?;

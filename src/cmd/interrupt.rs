@@ -20,6 +20,10 @@ static GRACEFUL: AtomicBool = AtomicBool::new(false);
 static PIPE: AtomicI32 = AtomicI32::new(-1);
 /// The last signal's number.
 static SIGNAL: AtomicI32 = AtomicI32::new(0);
+/// Held while a stopped run keeps its recordings under partial names
+/// ([`keeping_partial_outputs`]): a second signal waits for it, so that the partial files
+/// are all kept, never a subset.
+static KEEPING: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 #[cfg(unix)]
 extern "C" fn on_signal(signal: libc::c_int) {
@@ -86,10 +90,24 @@ fn watch(read_end: libc::c_int) {
         if seen == 1 && GRACEFUL.load(Ordering::SeqCst) {
             continue;
         }
+        // A run keeping its partial recordings finishes that first (it only flushes and
+        // renames files).
+        let _kept = KEEPING
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
         hopsim_io::remove_temporary_files();
         eprintln!("\ninterrupted: unfinished output files removed");
         std::process::exit(128 + i32::from(byte));
     }
+}
+
+/// Runs `keep` (which renames a stopped run's recordings to their partial names) so that a
+/// signal arriving meanwhile waits for it to finish.
+pub fn keeping_partial_outputs<T>(keep: impl FnOnce() -> T) -> T {
+    let _keeping = KEEPING
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    keep()
 }
 
 /// Forwards every step to `inner` and stops the run once a signal has arrived.

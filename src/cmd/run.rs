@@ -104,12 +104,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
                     "note: u_{index} is the rate of '{name}' (simulation.max_speed sets the limit)"
                 );
             }
-            report_partial_outputs(observer, &err, summary_file.is_some());
-            return Ok(ExitCode::from(match err {
-                RunError::Step(_) | RunError::NotFinite { .. } => exit::SIMULATION_FAILED,
-                RunError::Record(_) => 1,
-                RunError::Interrupted { .. } => interrupt::exit_code(),
-            }));
+            interrupt::keeping_partial_outputs(|| {
+                report_partial_outputs(observer, &err, summary_file.is_some())
+            });
+            return Ok(ExitCode::from(exit::of_run_error(&err)));
         }
     };
     observer.finish()?;

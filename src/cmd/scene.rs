@@ -90,10 +90,17 @@ fn describe(scene: &Scene) -> String {
             "momentum-stored impulse on '{}' (T = {} N m, ζ0 = {} N m s), {}",
             m.bodies[c.flywheel].name, c.torque, c.impulse_limit, c.release
         ),
-        ControllerConfig::Pulse(c) => format!(
-            "torque pulse on '{}' (±{} N m for {} s every {:.4} s), cane {}",
-            m.bodies[c.joint_body].name, c.torque, c.pulse_duration, c.period, c.cane
-        ),
+        ControllerConfig::Pulse(c) => {
+            let (what, unit) = if c.drives_force(m) {
+                ("force", "N")
+            } else {
+                ("torque", "N m")
+            };
+            format!(
+                "{what} pulse on '{}' (±{} {unit} for {} s every {:.4} s), cane {}",
+                m.bodies[c.joint_body].name, c.torque, c.pulse_duration, c.period, c.cane
+            )
+        }
     };
     format!(
         "  title        {}\n  bodies       {} ({} coordinates: {})\n  shapes       {}\n  \

@@ -97,6 +97,16 @@ pub struct PulseConfig {
     pub cane: CaneMode,
 }
 
+impl PulseConfig {
+    /// Whether the pulse is a force along a prismatic joint (N) rather than a torque (N m).
+    pub fn drives_force(&self, model: &hopsim_model::Model) -> bool {
+        model.bodies[self.joint_body]
+            .joint
+            .as_ref()
+            .is_some_and(|j| matches!(j.kind, hopsim_model::JointKind::Prismatic { .. }))
+    }
+}
+
 /// Which controller a scene runs.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub enum ControllerConfig {

@@ -41,7 +41,7 @@ impl Drop for Registered {
     }
 }
 
-/// A file written under a temporary name `.<name>.partial-XXXXXX` beside `path` and renamed
+/// A file written under a temporary name `.<name>.partial-<pid>-XXXXXX` beside `path` and renamed
 /// to `path` by [`AtomicFile::commit`]; dropped without `commit`, the temporary file is
 /// deleted and `path` is left as it was. Writes are buffered.
 #[derive(Debug)]
@@ -267,10 +267,10 @@ fn file_kind(kind: &std::fs::FileType) -> &'static str {
 }
 
 /// Characters of the target's name kept in the temporary name, so that a long legal name
-/// (up to the usual 255 bytes) still leaves room for the `.partial-XXXXXX` decoration.
+/// (up to the usual 255 bytes) still leaves room for the `.partial-<pid>-XXXXXX` decoration.
 const TEMPORARY_NAME_CHARS: usize = 64;
 
-/// A new empty file `.<name>.partial-XXXXXX<suffix>` in `target`'s folder (created if
+/// A new empty file `.<name>.partial-<pid>-XXXXXX<suffix>` in `target`'s folder (created if
 /// needed; `<name>` cut to [`TEMPORARY_NAME_CHARS`] characters), deleted when dropped.
 /// Errors name `named`, the path the user gave.
 fn temporary_file_for(target: &Path, named: &Path, suffix: &str) -> Result<NamedTempFile, IoError> {
@@ -291,7 +291,8 @@ fn temporary_file_for(target: &Path, named: &Path, suffix: &str) -> Result<Named
         .chars()
         .take(TEMPORARY_NAME_CHARS)
         .collect();
-    let prefix = format!(".{short}.partial-");
+    remove_stale_temporary_files(dir, &short);
+    let prefix = format!(".{short}.partial-{}-", std::process::id());
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(suffix);
     // Temporary files are private (0600) by default; an output file gets what a plain
@@ -301,6 +302,44 @@ fn temporary_file_for(target: &Path, named: &Path, suffix: &str) -> Result<Named
     builder
         .tempfile_in(dir)
         .map_err(|e| io(without_temporary_path(e)))
+}
+
+/// Deletes the temporary files `.<short>.partial-<pid>-…` in `dir` of processes that no
+/// longer run: what a run killed without a chance to clean up (`SIGKILL`, a power cut)
+/// left behind. A file of a live process (another run writing the same output) stays.
+fn remove_stale_temporary_files(dir: &Path, short: &str) {
+    let prefix = format!(".{short}.partial-");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(&prefix)) else {
+            continue;
+        };
+        let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
+        if pid.is_some_and(|pid| !process_runs(pid)) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` exists (on other systems than Unix: assumed so).
+fn process_runs(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        let Ok(pid) = libc::pid_t::try_from(pid) else {
+            return true;
+        };
+        // SAFETY: signal 0 only checks that the process exists; nothing is sent.
+        let found = unsafe { libc::kill(pid, 0) } == 0;
+        found || io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
 }
 
 /// The operating system's error without the temporary file's path that `tempfile` appends

@@ -3,7 +3,7 @@
 //! ([`to_json_value`]).
 //!
 //! A failed or interrupted run never leaves a file that looks complete: every output is
-//! written under a hidden temporary name beside its target (`.<name>.partial-XXXXXX`),
+//! written under a hidden temporary name beside its target (`.<name>.partial-<pid>-XXXXXX`),
 //! flushed, synced, and renamed over the target only when complete.
 
 mod atomic;

@@ -16,7 +16,7 @@ pub struct CsvRecorder {
 }
 
 /// The frame columns: `t_s, step, <q>_<unit>, <q>_dot_<unit>, com_x_m, com_y_m, energies,
-/// actuator_torque_Nm`.
+/// actuator_torque_Nm` (or `actuator_force_N` for a prismatic joint's motor).
 pub fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     let mut columns = vec!["t_s".to_string(), "step".to_string()];
     let units = || {
@@ -29,7 +29,7 @@ pub fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     columns.extend(units().map(|(n, unit)| format!("{n}_dot_{}", unit.velocity())));
     columns.extend(["com_x_m", "com_y_m"].map(String::from));
     columns.extend(EnergySample::NAMES.map(|name| format!("{name}_J")));
-    columns.push("actuator_torque_Nm".into());
+    columns.push(info.actuator.column().into());
     columns
 }
 

@@ -118,6 +118,37 @@ pub struct RecordingInfo {
     /// Whether a controller drives the robot (actuator torque and work are recorded
     /// either way; the Rerun view plots them only then).
     pub actuated: bool,
+    /// What the recorded actuator value is: a torque (N m) or a force (N, a prismatic
+    /// joint's motor).
+    pub actuator: ActuatorQuantity,
+}
+
+/// The kind of the recorded actuator value ([`Frame::actuator_torque`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ActuatorQuantity {
+    /// A torque in a revolute joint or between two bodies, N m.
+    #[default]
+    Torque,
+    /// A force along a prismatic joint, N.
+    Force,
+}
+
+impl ActuatorQuantity {
+    /// The name of its column and field: `actuator_torque_Nm` or `actuator_force_N`.
+    pub fn column(self) -> &'static str {
+        match self {
+            ActuatorQuantity::Torque => "actuator_torque_Nm",
+            ActuatorQuantity::Force => "actuator_force_N",
+        }
+    }
+
+    /// In words, for legends: `actuator torque` or `actuator force`.
+    pub fn words(self) -> &'static str {
+        match self {
+            ActuatorQuantity::Torque => "actuator torque",
+            ActuatorQuantity::Force => "actuator force",
+        }
+    }
 }
 
 /// Pose of one body.

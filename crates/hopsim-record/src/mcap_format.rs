@@ -6,7 +6,7 @@
 //! Python `mcap` reader decodes it with `json.loads`. Field names carry SI units
 //! (`_s`, `_m`, `_Ns`, `_J`, `_Nm`); non-finite numbers are written as `null`.
 
-use crate::{BodyPose, ContactSample, Frame, RecordingInfo};
+use crate::{ActuatorQuantity, BodyPose, ContactSample, Frame, RecordingInfo};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use serde_json::{json, Map, Value};
@@ -167,8 +167,13 @@ fn state_schema(info: &RecordingInfo) -> Value {
             ("com_m", xy("whole-robot centre of mass, m", "m")),
             ("bodies", object("pose of every body", bodies)),
             (
-                "actuator_torque_Nm",
-                number("actuator torque commanded this step, N m (a pulse on a prismatic joint: its force, N)"),
+                info.actuator.column(),
+                number(match info.actuator {
+                    ActuatorQuantity::Torque => "actuator torque commanded this step, N m",
+                    ActuatorQuantity::Force => {
+                        "actuator force along the prismatic joint commanded this step, N"
+                    }
+                }),
             ),
         ])),
     )
@@ -362,8 +367,11 @@ pub(crate) struct StateMessage<'a> {
     u: Named<'a>,
     com_m: Xy,
     bodies: Poses<'a>,
-    #[serde(rename = "actuator_torque_Nm")]
-    actuator_torque: f64,
+    /// The actuator value under the name of its quantity ([`ActuatorQuantity::column`]).
+    #[serde(rename = "actuator_torque_Nm", skip_serializing_if = "Option::is_none")]
+    actuator_torque: Option<f64>,
+    #[serde(rename = "actuator_force_N", skip_serializing_if = "Option::is_none")]
+    actuator_force: Option<f64>,
 }
 
 impl<'a> StateMessage<'a> {
@@ -371,7 +379,10 @@ impl<'a> StateMessage<'a> {
         frame: &'a Frame<'a>,
         coordinates: &'a [String],
         bodies: &'a [String],
+        actuator: ActuatorQuantity,
     ) -> Self {
+        let value = Some(frame.actuator_torque);
+        let force = actuator == ActuatorQuantity::Force;
         Self {
             t_s: frame.t,
             step: frame.step,
@@ -388,7 +399,8 @@ impl<'a> StateMessage<'a> {
                 names: bodies,
                 poses: frame.bodies,
             },
-            actuator_torque: frame.actuator_torque,
+            actuator_torque: value.filter(|_| !force),
+            actuator_force: value.filter(|_| force),
         }
     }
 }
@@ -489,7 +501,9 @@ pub(crate) struct StateIn {
     pub(crate) q: BTreeMap<String, Number>,
     pub(crate) u: BTreeMap<String, Number>,
     #[serde(rename = "actuator_torque_Nm")]
-    pub(crate) actuator_torque: Number,
+    pub(crate) actuator_torque: Option<Number>,
+    #[serde(rename = "actuator_force_N")]
+    pub(crate) actuator_force: Option<Number>,
 }
 
 /// The part of a `/hopsim/contacts` message the reader uses.

@@ -147,7 +147,10 @@ impl McapRecording {
                     t: state.t_s.0,
                     q: ordered(&state.q, names, "q")?,
                     u: ordered(&state.u, names, "u")?,
-                    actuator_torque: state.actuator_torque.0,
+                    actuator_torque: state
+                        .actuator_torque
+                        .or(state.actuator_force)
+                        .map_or(0.0, |n| n.0),
                 });
             }
             Some(Channel::Contacts) => {

@@ -9,7 +9,9 @@ use crate::mcap_format::{
     metadata, Channel, ContactsMessage, EnergyMessage, StateMessage, MESSAGE_ENCODING,
     METADATA_NAME, SCENE_MEDIA_TYPE, SCHEMA_ENCODING, STOP_METADATA_NAME,
 };
-use crate::{AtomicFile, Event, Frame, RecordError, Recorder, RecordingInfo, Stop};
+use crate::{
+    ActuatorQuantity, AtomicFile, Event, Frame, RecordError, Recorder, RecordingInfo, Stop,
+};
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, Compression, WriteOptions, Writer};
 use serde::Serialize;
@@ -29,6 +31,7 @@ pub struct McapRecorder {
     coordinates: Vec<String>,
     bodies: Vec<String>,
     contacts: Vec<String>,
+    actuator: ActuatorQuantity,
 }
 
 /// The MCAP writer with its channels.
@@ -123,6 +126,7 @@ impl McapRecorder {
             coordinates: info.coordinates.clone(),
             bodies: info.bodies.iter().map(|b| b.name.clone()).collect(),
             contacts: info.contacts.clone(),
+            actuator: info.actuator,
         })
     }
 }
@@ -169,7 +173,7 @@ impl Recorder for McapRecorder {
         self.layout
             .check(frame)
             .map_err(|m| RecordError::format(&out.path, m))?;
-        let state = StateMessage::new(frame, &self.coordinates, &self.bodies);
+        let state = StateMessage::new(frame, &self.coordinates, &self.bodies, self.actuator);
         out.write(Channel::State, frame.t, &state)?;
         let contacts = ContactsMessage {
             frame,

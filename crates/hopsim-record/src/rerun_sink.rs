@@ -13,7 +13,8 @@ use crate::geometry::{
     INACTIVE_COLOR, RAIL_COLOR, TERRAIN_COLOR,
 };
 use crate::{
-    EnergySample, Event, EventKind, Frame, JointInfo, RecordError, Recorder, RecordingInfo, Stop,
+    ActuatorQuantity, EnergySample, Event, EventKind, Frame, JointInfo, RecordError, Recorder,
+    RecordingInfo, Stop,
 };
 use hopsim_io::AtomicPath;
 use rerun::blueprint::{
@@ -381,7 +382,14 @@ const PLOT_BALANCE: &str = "plots/energy_balance_error_J";
 const PLOT_IMPULSE: &str = "plots/impulse_Ns";
 const PLOT_NORMAL_IMPULSE: &str = "plots/impulse_Ns/normal";
 const PLOT_TANGENT_IMPULSE: &str = "plots/impulse_Ns/tangent";
-const PLOT_TORQUE: &str = "plots/actuator_torque_Nm";
+/// Entity of the actuator's time series.
+fn actuator_plot(actuator: ActuatorQuantity) -> &'static str {
+    match actuator {
+        ActuatorQuantity::Torque => "plots/actuator_torque_Nm",
+        ActuatorQuantity::Force => "plots/actuator_force_N",
+    }
+}
+
 /// Entity of the event log.
 const EVENTS_ENTITY: &str = "events";
 /// Entity of the contact-force arrows.
@@ -499,8 +507,9 @@ fn scene_series(info: &RecordingInfo) -> Vec<Series> {
         all.push(series(PLOT_TANGENT_IMPULSE, tangent, names("Λ_T"), n));
     }
     if info.actuated {
-        let torque = vec!["actuator torque".to_string()];
-        all.push(series(PLOT_TORQUE, Quantity::Torque, torque, 0));
+        let torque = vec![info.actuator.words().to_string()];
+        let entity = actuator_plot(info.actuator);
+        all.push(series(entity, Quantity::Torque, torque, 0));
     }
     all
 }
@@ -1043,6 +1052,7 @@ mod tests {
             dt: 1e-3,
             weight_newtons: 0.0,
             actuated: false,
+            actuator: ActuatorQuantity::Torque,
         }
     }
 
@@ -1192,7 +1202,7 @@ mod tests {
                 PLOT_BALANCE,
                 PLOT_NORMAL_IMPULSE,
                 PLOT_TANGENT_IMPULSE,
-                PLOT_TORQUE
+                actuator_plot(ActuatorQuantity::Torque)
             ]
         );
         // Series sharing a panel get different colours.

@@ -151,6 +151,31 @@ fn check_name(table: &Table<'_>, key: &str, name: &str) -> Result<(), SceneError
     Ok(())
 }
 
+/// Contact names are `<shape>[#k]/terrain<i>` and `<probe>[#k]/<target>`
+/// (docs/scene-format.md): so that every contact's name is unique, a shape's name holds no
+/// `/` or `#` and is not `terrain` followed by digits.
+fn check_shape_name(t: &Table<'_>, name: &str) -> Result<(), SceneError> {
+    let terrain_like = name
+        .strip_prefix("terrain")
+        .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c.is_ascii_digit()));
+    if name.contains(['/', '#']) || terrain_like {
+        let origin = if t.get("name").is_some() {
+            "name"
+        } else {
+            "body"
+        };
+        return Err(t.error_at_key(
+            origin,
+            format!(
+                "the shape name '{name}' would make contact names ambiguous: shape names \
+                 may not hold '/' or '#' nor be 'terrain' followed by digits (a shape \
+                 without a name is named '<body>_<type>')"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// At most `max` tables of `key`, else an error at the first one too many.
 pub(crate) fn check_count(
     tables: &[Table<'_>],
@@ -541,6 +566,7 @@ pub(crate) fn read_shapes(
             Some(n) => n.to_string(),
             None => format!("{}_{kind}", bodies.get(body)),
         };
+        check_shape_name(t, &name)?;
         shapes.add(t, "name", &name)?;
         let shape = read_geometry(t, kind)?;
         let material = read_material(t, base_material)?;
@@ -697,6 +723,10 @@ fn vec2(v: [f64; 2]) -> Vec2 {
     Vec2::new(v[0], v[1])
 }
 
+/// Names a coordinate may not take: its recorded column would be one the recordings
+/// already have (`<name>_m`: the centre of mass's `com_x_m`, `com_y_m`).
+const RESERVED_COORDINATE_NAMES: [&str; 2] = ["com_x", "com_y"];
+
 /// A joint coordinate's name labels recorded columns and fields: it must be an identifier
 /// (letters, digits, `_`, not starting with a digit) and differ from every other
 /// coordinate's name (`x`, `y`, `phi` included).
@@ -716,6 +746,15 @@ fn check_coordinate_name(
             "coordinate_name",
             format!(
                 "expected a name of letters, digits and '_' not starting with a digit, found '{name}'"
+            ),
+        ));
+    }
+    if RESERVED_COORDINATE_NAMES.contains(&name) {
+        return Err(t.error_at_key(
+            "coordinate_name",
+            format!(
+                "'{name}' is the name of a recorded quantity (the centre of mass's columns \
+                 com_x_m, com_y_m); choose another name"
             ),
         ));
     }

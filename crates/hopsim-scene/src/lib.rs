@@ -19,6 +19,7 @@ mod reader;
 mod scene;
 mod schema;
 mod settings;
+mod start;
 mod tree;
 
 pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
@@ -28,4 +29,5 @@ pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
 pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
 pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use settings::{Meta, Settings, MIN_DT};
+pub use start::{check_start, StartProblem, PENETRATION_TOL};
 pub use tree::MAX_DEPTH;

@@ -8,6 +8,7 @@ use crate::error::{SceneError, Source};
 use crate::overrides::{apply, Override};
 use crate::reader::{Num, Table};
 use crate::settings::{read_meta, read_settings, Meta, Settings};
+use crate::start::{check_start, StartProblem, PENETRATION_TOL};
 use crate::tree::Node;
 use hopsim_control::ControllerConfig;
 use hopsim_model::{Kinematics, Model, ModelError, Vec2};
@@ -15,8 +16,6 @@ use hopsim_step::{State, StepSettings};
 use nalgebra::DVector;
 use std::path::{Path, PathBuf};
 
-/// Gaps below `-PENETRATION_TOL` at the initial state are rejected, m.
-const PENETRATION_TOL: f64 = 1e-9;
 /// Largest scene file [`load`] reads, bytes (8 MiB: a hundred times the largest sensible
 /// scene; `/dev/zero` or an endless pipe stops here instead of exhausting memory).
 pub const MAX_SCENE_BYTES: u64 = 8 << 20;
@@ -243,46 +242,30 @@ fn read_initial(
             q[1] -= gap / normal_y;
         }
     }
-    if let Some((gap, _, contact)) = lowest_contact(model, shapes, &mut ws, &q, &u, &|_| true) {
-        if gap < -PENETRATION_TOL {
-            let shape = &model.shapes[model.contacts[contact].shape].name;
-            let fix = if model.root(model.shapes[model.contacts[contact].shape].body) == 0
-                && model.bodies[0].joint.is_none()
-            {
-                "raise y (q[1]) by at least that much or set rest_on_ground = true"
-            } else {
-                "move its body out of the terrain"
-            };
-            return Err(init.error_at_key(
-                "q",
-                format!(
-                    "the shape '{shape}' starts {:.6e} m inside the terrain (contact '{}'); {fix}",
-                    -gap, model.contacts[contact].name
-                ),
-            ));
-        }
-    }
-    ws.update(model, &q, &u);
-    for (p, pair) in model.pairs.iter().enumerate() {
-        let Some(geometry) = model.pair_geometry(&ws, p) else {
-            continue;
+    let state = State { t: 0.0, q, u };
+    let inactive: Vec<bool> = shapes.iter().map(|s| s.switchable).collect();
+    if let Err(problem) = check_start(model, &state, &inactive) {
+        let fix = match &problem {
+            StartProblem::InTerrain { shape, .. } => {
+                let body = model
+                    .shapes
+                    .iter()
+                    .find(|s| &s.name == shape)
+                    .map_or(0, |s| s.body);
+                if model.root(body) == 0 && model.bodies[0].joint.is_none() {
+                    "raise y (q[1]) by at least that much or set rest_on_ground = true"
+                } else {
+                    "move its body out of the terrain"
+                }
+            }
+            StartProblem::Overlap { .. } => "move their bodies apart",
+            StartProblem::PastStop { .. } => {
+                "start the joint between its limits (limits are in rad or m, like q)"
+            }
         };
-        if geometry.gap < -PENETRATION_TOL {
-            let shape = |s: usize| &model.shapes[s].name;
-            return Err(init.error_at_key(
-                "q",
-                format!(
-                    "the shapes '{}' and '{}' overlap by {:.6e} m at the start (contact '{}'); \
-                     move their bodies apart",
-                    shape(pair.probe),
-                    shape(pair.target),
-                    -geometry.gap,
-                    pair.name
-                ),
-            ));
-        }
+        return Err(init.error_at_key("q", format!("{problem}; {fix}")));
     }
-    Ok(State { t: 0.0, q, u })
+    Ok(state)
 }
 
 /// The smallest gap over the contacts of non-switchable shapes that `among` accepts, at

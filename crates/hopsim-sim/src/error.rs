@@ -17,4 +17,23 @@ pub enum RunError {
     /// The user stopped the run (an observer saw Ctrl-C), at simulation time `t`.
     #[error("interrupted at t = {t:.6} s")]
     Interrupted { t: f64 },
+    /// A bug: the step panicked (docs/reliability.md, "Panics"). The simulation refuses
+    /// further steps; its recordings up to the last completed step can be kept.
+    #[error(
+        "internal error in step {step} (t = {t:.6} s): {message}. This is a bug in hopsim; \
+         please report it with the scene file and the command line"
+    )]
+    Internal { step: u64, t: f64, message: String },
+}
+
+/// The message of a panic's payload (`panic!` with a literal or a formatted string).
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    match (
+        payload.downcast_ref::<&str>(),
+        payload.downcast_ref::<String>(),
+    ) {
+        (Some(s), _) => format!("panicked: {s}"),
+        (_, Some(s)) => format!("panicked: {s}"),
+        _ => "panicked".to_string(),
+    }
 }

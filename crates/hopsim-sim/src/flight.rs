@@ -41,6 +41,20 @@ impl Default for FlightTracker {
 }
 
 impl FlightTracker {
+    /// A tracker for a run whose start has the smallest gap `min_gap` to the world: in the
+    /// air (a dropped robot) when it clears the terrain by [`HOP_CLEARANCE`], so that the
+    /// drop is not counted as a hop; on the ground otherwise.
+    pub fn starting(min_gap: f64) -> Self {
+        Self {
+            phase: if min_gap > HOP_CLEARANCE {
+                Phase::Airborne
+            } else {
+                Phase::Ground
+            },
+            hops: 0,
+        }
+    }
+
     /// Flight phases so far.
     pub fn hops(&self) -> u64 {
         self.hops

@@ -20,13 +20,13 @@ mod simulation;
 mod summary;
 mod sweep;
 
-pub use error::RunError;
+pub use error::{panic_message, RunError};
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView};
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
 pub use run::{run, run_for};
-pub use simulation::Simulation;
+pub use simulation::{Simulation, PANIC_AT_STEP};
 pub use summary::{
     per_forward_metre, EnergySummary, ImpulseSummary, LcpSummary, Summary, WindowTotals,
     IMPULSE_UNIT,

@@ -4,8 +4,9 @@ use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_model::JointKind;
 use hopsim_record::{
-    recorded_time, BodyInfo, BodyPose, ContactSample, CoordinateUnit, EnergySample, Event,
-    EventKind, Frame, JointInfo, JointInfoKind, RecorderSet, RecordingInfo, Stop,
+    recorded_time, ActuatorQuantity, BodyInfo, BodyPose, ContactSample, CoordinateUnit,
+    EnergySample, Event, EventKind, Frame, JointInfo, JointInfoKind, RecorderSet, RecordingInfo,
+    Stop,
 };
 use hopsim_scene::Scene;
 use std::path::PathBuf;
@@ -51,6 +52,10 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
         dt: scene.settings.dt,
         weight_newtons: model.total_mass() * model.gravity.norm(),
         actuated: !matches!(scene.controller, ControllerConfig::Passive),
+        actuator: match &scene.controller {
+            ControllerConfig::Pulse(c) if c.drives_force(&scene.model) => ActuatorQuantity::Force,
+            _ => ActuatorQuantity::Torque,
+        },
     }
 }
 

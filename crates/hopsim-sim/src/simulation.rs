@@ -1,6 +1,6 @@
 //! One step of a scene: controller → actuation → step → events → observers.
 
-use crate::{FlightEvent, FlightTracker, Observer, RunError, StepView};
+use crate::{panic_message, FlightEvent, FlightTracker, Observer, RunError, StepView};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{recorded_time, Event, EventKind};
 use hopsim_scene::Scene;
@@ -45,6 +45,20 @@ pub struct Simulation<'s> {
     /// Per contact: whether it carried load in the previous step, and in this one.
     was_loaded: Vec<bool>,
     loaded_now: Vec<bool>,
+    /// `(step, t, message)` of a step that panicked: every later step returns that
+    /// internal error again.
+    failed: Option<(u64, f64, String)>,
+    /// Test hook: the step that panics on purpose ([`PANIC_AT_STEP`]).
+    panic_at: Option<u64>,
+}
+
+/// Environment variable naming a step in which every [`Simulation`] created afterwards
+/// panics on purpose: a test hook for the panic boundary (docs/reliability.md, "Panics").
+pub const PANIC_AT_STEP: &str = "HOPSIM_PANIC_AT_STEP";
+
+/// The step of [`PANIC_AT_STEP`], if set to a whole number.
+fn panic_at_step() -> Option<u64> {
+    std::env::var(PANIC_AT_STEP).ok()?.trim().parse().ok()
 }
 
 impl Simulation<'static> {
@@ -79,6 +93,7 @@ impl<'s> Simulation<'s> {
             .map(|c| scene.switchable.contains(&c.shape))
             .collect();
         let contacts = model.contacts.len();
+        let flight = FlightTracker::starting(stepper.record().min_gap);
         Self {
             scene,
             controller,
@@ -88,12 +103,14 @@ impl<'s> Simulation<'s> {
             control_events: Vec::new(),
             events: Vec::new(),
             shapes_active,
-            flight: FlightTracker::default(),
-            loaded: true,
+            loaded: !flight.airborne(),
+            flight,
             any_switchable: switchable_contact.contains(&true),
             switchable_contact,
             was_loaded: vec![false; contacts],
             loaded_now: vec![false; contacts],
+            failed: None,
+            panic_at: panic_at_step(),
         }
     }
 
@@ -116,8 +133,8 @@ impl<'s> Simulation<'s> {
         self.stepper.start(&self.scene.model, &self.state);
         self.actuation.clear();
         self.events.clear();
-        self.flight = FlightTracker::default();
-        self.loaded = true;
+        self.flight = FlightTracker::starting(self.stepper.record().min_gap);
+        self.loaded = !self.flight.airborne();
         self.was_loaded.fill(false);
     }
 
@@ -132,8 +149,9 @@ impl<'s> Simulation<'s> {
         &self.actuation
     }
 
-    /// Whether any contact carried a normal percussion in the last step (what a controller
-    /// sees as `in_contact`; true before the first step).
+    /// Whether the world (the terrain, or a shape of a fixed body) carried a normal
+    /// percussion in the last step (what a controller sees as `in_contact`); before the
+    /// first step, whether the start touches the world.
     pub fn in_contact(&self) -> bool {
         self.loaded
     }
@@ -158,8 +176,40 @@ impl<'s> Simulation<'s> {
         self.flight.hops()
     }
 
-    /// Takes one step and shows it to `observer`.
+    /// Takes one step and shows it to `observer`. A panic inside the step (a bug) is
+    /// caught and returned as [`RunError::Internal`]; the simulation then refuses further
+    /// steps with the same error.
     pub fn step(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
+        self.guarded(|sim| sim.control_and_advance(observer))
+    }
+
+    /// Runs one step `f` behind the panic boundary (see [`Simulation::step`]).
+    fn guarded(
+        &mut self,
+        f: impl FnOnce(&mut Self) -> Result<(), RunError>,
+    ) -> Result<(), RunError> {
+        let internal = |(step, t, message): &(u64, f64, String)| RunError::Internal {
+            step: *step,
+            t: *t,
+            message: message.clone(),
+        };
+        if let Some(failed) = &self.failed {
+            return Err(internal(failed));
+        }
+        let (step, t) = (self.stepper.record().step + 1, self.state.t);
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self))) {
+            Ok(result) => result,
+            Err(payload) => {
+                let failed = (step, t, panic_message(payload.as_ref()));
+                let error = internal(&failed);
+                self.failed = Some(failed);
+                Err(error)
+            }
+        }
+    }
+
+    /// The scene's controller, then the step.
+    fn control_and_advance(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
         let model = &self.scene.model;
         self.actuation.clear();
         self.control_events.clear();
@@ -205,7 +255,7 @@ impl<'s> Simulation<'s> {
         self.control_events.clear();
         self.control_events.extend_from_slice(events);
         self.events.clear();
-        self.advance(observer)
+        self.guarded(|sim| sim.advance(observer))
     }
 
     /// The step itself, after the actuation and the control events are set.
@@ -229,6 +279,9 @@ impl<'s> Simulation<'s> {
                     },
                 });
             }
+        }
+        if self.panic_at == Some(step0 + 1) {
+            panic!("forced by {PANIC_AT_STEP}={} (a test hook)", step0 + 1);
         }
         let record = self.stepper.step(model, &mut self.state, &self.actuation)?;
         // Applied impulses act inside the step, as brakes do (N s for a point impulse,
@@ -261,7 +314,12 @@ impl<'s> Simulation<'s> {
                 });
             }
         }
-        self.loaded = record.in_contact();
+        // Loaded by the world: the terrain, or shapes of fixed bodies.
+        self.loaded = record.in_contact()
+            || record
+                .pair_contacts
+                .iter()
+                .any(|c| c.state != ContactState::Open && model.pair_touches_world(c.contact));
         // A switchable shape's contact (the cane's tip) starting to carry load.
         if self.any_switchable {
             self.loaded_now.fill(false);
@@ -293,11 +351,16 @@ impl<'s> Simulation<'s> {
                 kind: EventKind::TakeOff,
             }),
             Some(FlightEvent::Touchdown { t, step }) => {
-                let contact = record
-                    .contacts
+                let terrain = record.contacts.iter().map(|c| (c, c.contact));
+                let world = record
+                    .pair_contacts
                     .iter()
-                    .max_by(|a, b| a.impulse_normal.total_cmp(&b.impulse_normal))
-                    .map(|c| model.contacts[c.contact].name.clone())
+                    .filter(|c| model.pair_touches_world(c.contact))
+                    .map(|c| (c, model.contacts.len() + c.contact));
+                let contact = terrain
+                    .chain(world)
+                    .max_by(|a, b| a.0.impulse_normal.total_cmp(&b.0.impulse_normal))
+                    .map(|(_, i)| model.contact_name(i).to_string())
                     .unwrap_or_default();
                 self.events.push(Event {
                     t,

@@ -137,9 +137,19 @@ pub fn sweep<R: Send>(
         .map(|job| {
             let mut overrides = base.to_vec();
             overrides.extend_from_slice(&job.overrides);
-            let result = hopsim_scene::parse(text, path, &overrides)
-                .map_err(|e| e.to_string())
-                .and_then(|scene| run(&scene).map_err(|e| e.to_string()));
+            // A panic outside the steps (which `Simulation` catches itself) is a failed
+            // run too, never a lost sweep.
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                hopsim_scene::parse(text, path, &overrides)
+                    .map_err(|e| e.to_string())
+                    .and_then(|scene| run(&scene).map_err(|e| e.to_string()))
+            }))
+            .unwrap_or_else(|payload| {
+                Err(format!(
+                    "internal error: {}. This is a bug in hopsim; please report it",
+                    crate::panic_message(payload.as_ref())
+                ))
+            });
             progress();
             SweepPoint {
                 job: job.clone(),

@@ -43,8 +43,9 @@ impl ImpulsiveWheelParams {
     /// Checks every number (invalid-parameter errors name the offending value).
     pub fn validate(&self) -> Result<()> {
         self.wheel.validate()?;
-        for &z in std::iter::once(&self.impulse_n_s).chain(&self.series_impulses_n_s) {
-            require_non_negative("impulse", z)?;
+        require_non_negative("impulse", self.impulse_n_s)?;
+        for &z in &self.series_impulses_n_s {
+            require_non_negative("series", z)?;
         }
         require_finite("initial-angle", self.initial_angle_rad)?;
         if self.iterations > MAX_ITERATIONS {
@@ -346,7 +347,7 @@ mod tests {
             impulse_max_n_s: 2.0,
             points: 10,
         });
-        for (p, name) in [(series, "impulse"), (range, "impulse-max")] {
+        for (p, name) in [(series, "series"), (range, "impulse-max")] {
             let err = impulsive_wheel(&p).unwrap_err();
             assert!(err.is_invalid_input(), "{err}");
             assert!(err.to_string().contains(&format!("`{name}`")), "{err}");

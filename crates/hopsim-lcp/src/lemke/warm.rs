@@ -230,7 +230,9 @@ impl LemkeSolver {
         let (basic, index) = (&warm.basic[..n], &warm.index[..]);
         let (q, basic) = (&q[..n], &basic[..n]);
         let (q_norm, q_min, q_sum) = vector_stats(q);
-        if !q_sum.is_finite() || q_min >= 0.0 {
+        // An empty basis is `z = 0`, which certifies only when `q ≥ 0`: the ordinary solve
+        // answers that at once.
+        if !q_sum.is_finite() || q_min >= 0.0 || index.is_empty() {
             return false;
         }
         let ld = leading_dim(n);

@@ -60,6 +60,7 @@ pub fn info() -> RecordingInfo {
         dt: 2e-4,
         weight_newtons: 1.405 * 9.81,
         actuated: true,
+        actuator: hopsim_record::ActuatorQuantity::Torque,
     }
 }
 
