@@ -20,6 +20,19 @@ pub struct Certificate {
     pub residual: f64,
     /// The scaled tolerance the three numbers are held to.
     pub tolerance: f64,
+    /// `‖M‖_∞`, the scale `z` enters with: `z` is resolved to `tolerance / matrix_norm`.
+    pub matrix_norm: f64,
+}
+
+impl Certificate {
+    /// The resolution of `z`: `tolerance / ‖M‖_∞` (the tolerance itself for `M = 0`).
+    pub fn z_tolerance(&self) -> f64 {
+        if self.matrix_norm > 0.0 {
+            self.tolerance / self.matrix_norm
+        } else {
+            self.tolerance
+        }
+    }
 }
 
 impl Certificate {
@@ -157,6 +170,7 @@ impl ProblemRef<'_> {
             most_negative,
             residual,
             tolerance: self.rel_tol * scale,
+            matrix_norm: self.m_norm,
         }
     }
 }

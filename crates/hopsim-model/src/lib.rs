@@ -12,6 +12,7 @@
 
 mod body;
 mod contact;
+mod dampers;
 mod ellipse;
 mod forces;
 mod kinematics;

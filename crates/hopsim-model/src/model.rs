@@ -199,6 +199,15 @@ impl Model {
         Ok(added)
     }
 
+    /// Whether body–body contact `p` touches a fixed body: the world, like the terrain, for
+    /// flight phases and the smallest gap (docs/physics.md §6).
+    pub fn pair_touches_world(&self, p: usize) -> bool {
+        let pair = &self.pairs[p];
+        [pair.probe, pair.target]
+            .iter()
+            .any(|&s| self.bodies[self.shapes[s].body].is_fixed())
+    }
+
     /// Whether bodies `a` and `b` are joined by a joint (one is the other's parent).
     pub fn joined(&self, a: usize, b: usize) -> bool {
         let parent = |x: usize| self.bodies[x].joint.as_ref().and_then(|j| j.parent);
@@ -447,10 +456,10 @@ impl Model {
     fn add_forces(
         &self,
         kinematics: &Kinematics,
-        mut conservative: Option<&mut [f64]>,
-        mut dissipative: Option<&mut [f64]>,
+        conservative: Option<&mut [f64]>,
+        dissipative: Option<&mut [f64]>,
     ) {
-        if let Some(h) = conservative.as_deref_mut() {
+        if let Some(h) = conservative {
             match kinematics.constant_weight() {
                 Some(weight) => {
                     for (h, w) in h.iter_mut().zip(weight) {
@@ -459,50 +468,30 @@ impl Model {
                 }
                 None => self.add_body_weights(kinematics, h),
             }
-        }
-        for (b, body) in self.bodies.iter().enumerate() {
-            let Some(joint) = body.joint.as_ref() else {
-                continue;
-            };
-            if joint.damping == 0.0 && joint.stiffness == 0.0 {
-                continue;
-            }
-            if let Some(h) = dissipative.as_deref_mut().filter(|_| joint.damping != 0.0) {
-                let rate = match (joint.kind, joint.parent) {
-                    (JointKind::Revolute, Some(p)) => {
-                        kinematics.angular_velocity(b) - kinematics.angular_velocity(p)
-                    }
-                    _ => kinematics.joint_rate(b),
+            for (b, body) in self.bodies.iter().enumerate() {
+                let Some(joint) = body.joint.as_ref().filter(|j| j.stiffness != 0.0) else {
+                    continue;
                 };
-                self.add_joint_force_to(kinematics, b, -joint.damping * rate, h);
-            }
-            if let Some(h) = conservative
-                .as_deref_mut()
-                .filter(|_| joint.stiffness != 0.0)
-            {
                 let stretch = kinematics.joint_position(b) - joint.rest_position;
                 self.add_joint_force_to(kinematics, b, -joint.stiffness * stretch, h);
             }
-        }
-        for spring in &self.springs {
-            let (ra, rb) = self.spring_offsets(kinematics, spring);
-            let pa = kinematics.position(spring.body_a) + ra;
-            let pb = kinematics.position(spring.body_b) + rb;
-            let (dir, length) = separation(pa, pb);
-            let rate = dir.dot(
-                &(kinematics.point_velocity(spring.body_a, ra)
-                    - kinematics.point_velocity(spring.body_b, rb)),
-            );
-            let (elastic, damping) = spring.tension(length, rate);
-            for (out, tension) in [
-                (conservative.as_deref_mut(), elastic),
-                (dissipative.as_deref_mut(), damping),
-            ] {
-                if let Some(h) = out.filter(|_| tension != 0.0) {
-                    let f = -tension * dir;
+            for spring in self.springs.iter().filter(|s| s.stiffness != 0.0) {
+                let (ra, rb) = self.spring_offsets(kinematics, spring);
+                let pa = kinematics.position(spring.body_a) + ra;
+                let pb = kinematics.position(spring.body_b) + rb;
+                let (dir, length) = separation(pa, pb);
+                let (elastic, _) = spring.tension(length, 0.0);
+                if elastic != 0.0 {
+                    let f = -elastic * dir;
                     kinematics.add_point_force_to(spring.body_a, ra, f, h);
                     kinematics.add_point_force_to(spring.body_b, rb, -f, h);
                 }
+            }
+        }
+        if let Some(h) = dissipative {
+            for damper in self.dampers(kinematics) {
+                let force = -damper.coefficient() * damper.rate(self, kinematics);
+                damper.add_row_to(self, kinematics, force, h);
             }
         }
     }
@@ -520,7 +509,7 @@ impl Model {
     }
 
     /// World offsets of a spring's two ends from their bodies' centres of mass.
-    fn spring_offsets(&self, kinematics: &Kinematics, spring: &Spring) -> (Vec2, Vec2) {
+    pub(crate) fn spring_offsets(&self, kinematics: &Kinematics, spring: &Spring) -> (Vec2, Vec2) {
         let offset = |b: usize, p: Vec2| {
             if p == Vec2::zeros() {
                 p

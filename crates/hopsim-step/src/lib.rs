@@ -15,7 +15,8 @@ mod trace;
 
 pub use actuation::{Actuation, ImpulseCommand, JointForceCommand, TorqueCommand};
 pub use record::{
-    ContactRecord, ContactState, EnergyLedger, LcpStats, LimitRecord, LockRecord, StepRecord,
+    ContactRecord, ContactState, EnergyLedger, LcpStats, LimitRecord, LockRecord, Resolution,
+    StepRecord, STATE_MARGIN,
 };
 pub use state::State;
 pub use stepper::{StepError, StepSettings, Stepper};

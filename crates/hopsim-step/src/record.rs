@@ -41,8 +41,52 @@ pub struct ContactRecord {
     pub impulse_tangent: f64,
     /// Tangential contact velocity law value `ξ_T` at the end of the step, m/s.
     pub slip_velocity: f64,
+    /// Normal contact velocity law value `ξ_N = γ_N^E + ε_N γ_N^A` at the end of the step,
+    /// m/s: `≥ 0`, and `0` where `Λ_N > 0` (docs/physics.md §4).
+    pub normal_velocity: f64,
     /// Open, stick or slip.
     pub state: ContactState,
+}
+
+/// How finely a step's contact answer is resolved: the tolerances its LCP certificate
+/// holds it to (docs/lcp.md), in the units of the contact laws. Below them a percussion or
+/// a velocity is round-off, which is what the contact states are decided against.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Resolution {
+    /// Velocities `ξ_N`, `ξ_T`: the certificate's tolerance, m/s (or rad/s).
+    pub velocity: f64,
+    /// Percussions `Λ`: the tolerance over `‖A‖_∞`, N s (or N m s).
+    pub impulse: f64,
+}
+
+/// A percussion or a velocity counts as non-zero beyond this many times the step's
+/// [`Resolution`] (the contact states of [`ContactState`]).
+pub const STATE_MARGIN: f64 = 10.0;
+
+impl ContactState {
+    /// The state of a contact with normal percussion `normal`, tangential percussion
+    /// `tangent` and slip `ξ_T` = `slip`, at Coulomb `μ` = `friction`, in a step resolved to
+    /// `resolution`: open without a normal percussion beyond [`STATE_MARGIN`] times the
+    /// resolution; slipping when `ξ_T` is beyond it and friction is on the cone (to the
+    /// same margin); sticking otherwise.
+    pub fn classify(
+        normal: f64,
+        tangent: f64,
+        slip: f64,
+        friction: f64,
+        resolution: Resolution,
+    ) -> Self {
+        let impulse = STATE_MARGIN * resolution.impulse;
+        if normal <= impulse {
+            ContactState::Open
+        } else if slip.abs() > STATE_MARGIN * resolution.velocity
+            && tangent.abs() >= friction * normal - impulse
+        {
+            ContactState::Slip
+        } else {
+            ContactState::Stick
+        }
+    }
 }
 
 /// One velocity lock (brake) of a step: `θ̇_body = θ̇_other` enforced at the step's end.
@@ -159,11 +203,13 @@ pub struct StepRecord {
     /// Whether this step's LCP ended without a certified solution (the step then used the
     /// frictionless normal-contact LCP).
     pub lcp_failed: bool,
-    /// Largest penetration `max(-g_N, 0)` over the enabled terrain contacts at the end of
-    /// the step, m.
+    /// The resolution of this step's contact answer (zero without contacts).
+    pub resolution: Resolution,
+    /// Largest penetration `max(-g_N, 0)` over the enabled contacts with the world (the
+    /// terrain's, and those with shapes of fixed bodies) at the end of the step, m.
     pub max_penetration: f64,
-    /// Smallest gap `g_N` over the enabled terrain contacts at the end of the step (`+∞`
-    /// when none can touch), m; computed in the same pass as `max_penetration`.
+    /// Smallest gap `g_N` over the enabled contacts with the world at the end of the step
+    /// (`+∞` when none can touch), m; computed in the same pass as `max_penetration`.
     pub min_gap: f64,
 }
 
@@ -180,6 +226,7 @@ impl Default for StepRecord {
             energy: EnergyLedger::default(),
             lcp_pivots: 0,
             lcp_failed: false,
+            resolution: Resolution::default(),
             max_penetration: 0.0,
             min_gap: f64::INFINITY,
         }

@@ -4,7 +4,7 @@
 use crate::linalg::{axpy, dot, Factor};
 use crate::{
     Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LimitRecord,
-    LockRecord, State, StepRecord,
+    LockRecord, Resolution, State, StepRecord,
 };
 use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver, SolveMethod, WarmStart};
 use hopsim_model::{ContactGeometry, Kinematics, Model};
@@ -118,6 +118,8 @@ pub struct Stepper {
     /// accumulated, so times stay on the grid of step sizes).
     t_start: f64,
     enabled: Vec<bool>,
+    /// The body–body contacts with a fixed body (`Model::pair_touches_world`).
+    world_pairs: Vec<usize>,
     /// Kinematics at `(q^M, u^A)` during a step, at the end state after it.
     kinematics: Kinematics,
     /// Generalised coordinates `n`.
@@ -129,7 +131,13 @@ pub struct Stepper {
     /// and already built: stage 2 keeps them.
     mass_fixed: bool,
     h: Vec<f64>,
+    /// The explicit damping force `−C u^A` (part of `h`).
     damping: Vec<f64>,
+    /// The dampers acting in this step (docs/physics.md §4.2): their coefficients `c` and
+    /// rows `w` (row-major `d × n`), `C = Σ c w wᵀ`.
+    damper_count: usize,
+    damper_c: Vec<f64>,
+    damper_rows: Vec<f64>,
     applied: Vec<f64>,
     impulse: Vec<f64>,
     /// `h Δt + impulses`.
@@ -185,7 +193,9 @@ impl Stepper {
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
         let kinematics = Kinematics::new(model);
-        let diagonal = kinematics.mass_matrix_is_diagonal();
+        let dampers = model.damper_capacity();
+        // `M + Δt/2 C` is diagonal only without dampers.
+        let diagonal = kinematics.mass_matrix_is_diagonal() && dampers == 0;
         lcp.reserve(3 * k + limits);
         Self {
             lcp,
@@ -193,6 +203,9 @@ impl Stepper {
             settings,
             t_start: 0.0,
             enabled: vec![true; k],
+            world_pairs: (0..model.pairs.len())
+                .filter(|&p| model.pair_touches_world(p))
+                .collect(),
             kinematics,
             n,
             mass: vector(n * n),
@@ -200,6 +213,9 @@ impl Stepper {
             mass_fixed: false,
             h: vector(n),
             damping: vector(n),
+            damper_count: 0,
+            damper_c: vector(dampers),
+            damper_rows: vector(dampers * n),
             applied: vector(n),
             impulse: vector(n),
             force: vector(n),
@@ -317,12 +333,20 @@ impl Stepper {
         energy.spring = energies.spring;
     }
 
-    /// `min_gap` and `max_penetration` of the record over the enabled contacts, in one pass.
+    /// `min_gap` and `max_penetration` of the record over the enabled contacts with the
+    /// world (the terrain's and those with shapes of fixed bodies), in one pass.
     fn fill_gaps(&mut self, model: &Model) {
         let mut min_gap = f64::INFINITY;
         for i in 0..model.contacts.len() {
             if self.enabled[i] {
                 if let Some(g) = model.contact_geometry(&self.kinematics, i) {
+                    min_gap = min_gap.min(g.gap);
+                }
+            }
+        }
+        for &p in &self.world_pairs {
+            if self.enabled[model.contacts.len() + p] {
+                if let Some(g) = model.pair_geometry(&self.kinematics, p) {
                     min_gap = min_gap.min(g.gap);
                 }
             }
@@ -427,12 +451,18 @@ impl Stepper {
     ) -> Result<(), StepError> {
         self.kinematics
             .update_slices(model, &self.q_mid, &self.u_start);
+        if !self.damper_c.is_empty() {
+            self.damper_count =
+                model.damper_rows_to(&self.kinematics, &mut self.damper_c, &mut self.damper_rows);
+        }
         if !self.mass_fixed {
             model.mass_matrix_to(&self.kinematics, &mut self.mass);
+            self.add_damping_to_mass::<N>();
             if !self.factor.factor(&self.mass, self.n) {
                 return Err(StepError::SingularMassMatrix { step, t });
             }
-            self.mass_fixed = self.kinematics.jacobian_is_constant();
+            self.mass_fixed =
+                self.kinematics.jacobian_is_constant() && model.damping_rows_follow_jacobian();
         }
         let applied = &mut self.applied[..dof::<N>(self.n)];
         applied.fill(0.0);
@@ -451,6 +481,24 @@ impl Stepper {
             &mut self.damping[..n],
         );
         Ok(())
+    }
+
+    /// The damping taken at the step's mean velocity (docs/physics.md §4.2): with the
+    /// explicit `−C u^A` in `h`, the step's matrix is `M + Δt/2 C`, so that the damping
+    /// force over the step is `−C (u^A + u^E)/2` and its work `−Δt ūᵀ C ū ≤ 0` at any `Δt`.
+    #[inline]
+    fn add_damping_to_mass<const N: usize>(&mut self) {
+        let n = dof::<N>(self.n);
+        let half_dt = 0.5 * self.settings.dt;
+        for d in 0..self.damper_count {
+            let w = row(&self.damper_rows, n, d);
+            let c = half_dt * self.damper_c[d];
+            for (i, &w_i) in w.iter().enumerate() {
+                if w_i != 0.0 {
+                    axpy(c * w_i, w, &mut self.mass[i * n..(i + 1) * n]);
+                }
+            }
+        }
     }
 
     /// Stage 3: the generalised applied impulses at `q^M` (docs/physics.md §3, `J_iᵀ ζ`) and the
@@ -609,6 +657,7 @@ impl Stepper {
     ) -> Result<(), StepError> {
         self.record.lcp_pivots = 0;
         self.record.lcp_failed = false;
+        self.record.resolution = Resolution::default();
         let n = dof::<N>(self.n);
         let k = self.active.len();
         let l = self.active_limits.len();
@@ -670,6 +719,10 @@ impl Stepper {
         self.stats.max_pivots = self.stats.max_pivots.max(solution.pivots);
         self.stats.total_pivots += solution.pivots as u64;
         self.record.lcp_pivots = solution.pivots;
+        self.record.resolution = Resolution {
+            velocity: solution.certificate.tolerance,
+            impulse: solution.certificate.z_tolerance(),
+        };
         if solution.status == LcpStatus::Solved {
             // Λ_T = Λ_R − μ Λ_N, ξ_T = ξ_R − ξ_L. The certified solution meets the LCP to
             // its tolerance (`rel_tol` of its scale); projecting the percussions onto the
@@ -781,6 +834,10 @@ impl Stepper {
                 status: solution.status.as_str(),
             });
         }
+        self.record.resolution = Resolution {
+            velocity: solution.certificate.tolerance,
+            impulse: solution.certificate.z_tolerance(),
+        };
         for c in 0..k {
             self.lambda_n[c] = solution.z[c].max(0.0);
             self.lambda_t[c] = 0.0;
@@ -840,7 +897,7 @@ impl Stepper {
     /// The contact records of the step (after `u^E` is known).
     fn fill_contact_records<const N: usize>(&mut self, model: &Model, k: usize) {
         let n = dof::<N>(self.n);
-        let scale = 1e-9;
+        let resolution = self.record.resolution;
         for c in 0..k {
             let (ln, lt) = (self.lambda_n[c], self.lambda_t[c]);
             let material = model.material(self.active[c]);
@@ -850,14 +907,9 @@ impl Stepper {
                 xi_t = dot(&self.w_t[c * n..(c + 1) * n], &self.u_end)
                     + material.restitution_tangent * self.gamma_t[c];
             }
-            let mu = material.friction;
-            let state = if ln <= scale * (1.0 + ln.abs()) {
-                ContactState::Open
-            } else if xi_t.abs() > 1e-8 && lt.abs() >= mu * ln * (1.0 - 1e-9) {
-                ContactState::Slip
-            } else {
-                ContactState::Stick
-            };
+            let xi_n = dot(&self.w_n[c * n..(c + 1) * n], &self.u_end)
+                + material.restitution_normal * self.gamma_n[c];
+            let state = ContactState::classify(ln, lt, xi_t, material.friction, resolution);
             let geom = self.geometry[c];
             // Terrain contacts, then body–body contacts (numbered from 0 in their list).
             let terrain = model.contacts.len();
@@ -873,6 +925,7 @@ impl Stepper {
                 impulse_normal: ln,
                 impulse_tangent: lt,
                 slip_velocity: xi_t,
+                normal_velocity: xi_n,
                 state,
             });
         }
@@ -958,7 +1011,11 @@ impl Stepper {
         // Field by field in place (a copy of the account would reload fields just stored).
         let energy = &mut self.record.energy;
         energy.actuator_work += dt * dot(&self.applied[..n], mean) + dot(&self.impulse[..n], mean);
-        energy.damping_work += dt * dot(&self.damping[..n], mean);
+        // The damping force over the step is `−C ū` (see `add_damping_to_mass`).
+        for d in 0..self.damper_count {
+            let rate = dot(row(&self.damper_rows, n, d), mean);
+            energy.damping_work -= dt * self.damper_c[d] * rate * rate;
+        }
         for c in 0..k {
             let rows = c * n..(c + 1) * n;
             energy.contact_work += self.lambda_n[c] * dot(&self.w_n[rows.clone()], mean)
