@@ -68,6 +68,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         eprintln!("error: {message}");
         return Ok(ExitCode::from(exit::INVALID_INPUT));
     }
+    if !args.quiet {
+        for warning in hopsim_scene::warnings(&scene) {
+            eprintln!("warning: {}: {warning}", scene.path.display());
+        }
+    }
     let info = recording_info(&scene);
     let mut recorders = RecorderSet::default();
     if let Some(path) = &args.mcap {

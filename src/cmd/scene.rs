@@ -76,6 +76,9 @@ pub fn run(args: SceneCommandArgs) -> anyhow::Result<ExitCode> {
     };
     println!("{}: ok", args.scene.display());
     print!("{}", describe(&scene));
+    for warning in hopsim_scene::warnings(&scene) {
+        println!("warning: {warning}");
+    }
     Ok(ExitCode::SUCCESS)
 }
 

@@ -5,6 +5,7 @@
 //! reported number is finite; and the energy account is kept.
 
 use crate::Mechanism;
+use hopsim_record::EventKind;
 use hopsim_scene::Scene;
 use hopsim_sim::{Observer, RunError, Simulation, StepView};
 use hopsim_step::{ContactRecord, ContactState, Resolution, STATE_MARGIN};
@@ -36,8 +37,14 @@ pub struct RunFigures {
     /// Mechanical energy at the end minus at the start minus the actuators' work, J
     /// (`−dissipated + balance error`).
     pub energy_gain: f64,
-    /// Smallest cumulative damping work's increment, J (a damper never adds energy).
+    /// Largest increment of the damping work in one step, J (a damper never adds energy:
+    /// `≤ 0`).
     pub max_damping_gain: f64,
+    /// The scene's warnings (`hopsim_scene::warnings`): springs, dampers or impacts beyond
+    /// the accurate range of `Δt`, materials whose impacts can add energy.
+    pub warnings: usize,
+    /// Energy added by impacts as the run reported it (`energy_created` events), J.
+    pub created_in_impacts: f64,
 }
 
 /// A broken contact law, a non-finite number, or a panic: what makes a generated case fail.
@@ -206,6 +213,11 @@ impl Observer for Checker {
             .max_damping_gain
             .max(e.damping_work - self.last_damping_work);
         self.last_damping_work = e.damping_work;
+        for ev in view.events {
+            if let EventKind::EnergyCreated { energy, .. } = ev.kind {
+                f.created_in_impacts += energy;
+            }
+        }
         Ok(())
     }
 }
@@ -242,6 +254,7 @@ pub fn run_and_check(mechanism: &Mechanism) -> Result<Outcome, Violation> {
     };
     let mut sim = Simulation::new(&scene);
     let mut checker = Checker::default();
+    checker.figures.warnings = hopsim_scene::warnings(&scene).len();
     let mut result = sim.start(&mut checker);
     for _ in 0..mechanism.steps {
         if result.is_err() {

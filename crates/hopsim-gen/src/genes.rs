@@ -76,6 +76,16 @@ pub struct SpringGene {
     pub tension_only: bool,
 }
 
+/// An explicit contact pair (`[[contact_pairs]]`): two shapes (scaled to the shape
+/// count), their own friction `μ` in `[0, 2]` and restitutions when given. Pairs of the
+/// same body, of two fixed bodies, with a switchable shape or without exact geometry are
+/// left out; pairs of joined bodies are kept (only explicit pairs make those).
+#[derive(Clone, Debug)]
+pub struct PairGene {
+    pub shapes: (f64, f64),
+    pub material: Option<(f64, f64, f64)>,
+}
+
 /// The world, the controller and the settings.
 #[derive(Clone, Debug)]
 pub struct WorldGene {
@@ -108,6 +118,7 @@ pub struct Genes {
     pub bodies: Vec<BodyGene>,
     pub shapes: Vec<ShapeGene>,
     pub springs: Vec<SpringGene>,
+    pub pairs: Vec<PairGene>,
 }
 
 fn unit() -> impl Strategy<Value = f64> {
@@ -238,19 +249,29 @@ fn world_gene() -> impl Strategy<Value = WorldGene> {
         )
 }
 
-/// Genes of mechanisms with 1 … [`MAX_GENERATED_BODIES`] bodies, up to ten shapes and
-/// three springs.
+fn pair_gene() -> impl Strategy<Value = PairGene> {
+    (
+        (unit(), unit()),
+        option::weighted(0.7, (unit(), unit(), signed())),
+    )
+        .prop_map(|(shapes, material)| PairGene { shapes, material })
+}
+
+/// Genes of mechanisms with 1 … [`MAX_GENERATED_BODIES`] bodies, up to ten shapes, three
+/// springs and three explicit contact pairs.
 pub fn genes() -> impl Strategy<Value = Genes> {
     (
         world_gene(),
         vec(body_gene(), 1..=MAX_GENERATED_BODIES),
         vec(shape_gene(), 1..=10),
         vec(spring_gene(), 0..=3),
+        vec(pair_gene(), 0..=3),
     )
-        .prop_map(|(world, bodies, shapes, springs)| Genes {
+        .prop_map(|(world, bodies, shapes, springs, pairs)| Genes {
             world,
             bodies,
             shapes,
             springs,
+            pairs,
         })
 }

@@ -242,6 +242,7 @@ impl Mechanism {
             t.push('\n');
         }
         self.write_springs(&mut t);
+        self.write_pairs(&mut t);
         if let Some((mu, e)) = w.body_contacts {
             let _ = writeln!(
                 t,
@@ -390,6 +391,46 @@ impl Mechanism {
             );
             if let Some(c) = g.damping {
                 let _ = writeln!(t, "damping = {}", num(mass * log_range(c, 0.01, 100.0)));
+            }
+            t.push('\n');
+        }
+    }
+
+    /// The explicit contact pairs that make a valid pair (see [`crate::genes::PairGene`]).
+    fn write_pairs(&self, t: &mut String) {
+        let count = self.shapes.len();
+        let mut written: Vec<(usize, usize)> = Vec::new();
+        for g in &self.genes.pairs {
+            let pick = |u: f64| ((u * count as f64) as usize).min(count - 1);
+            let (a, b) = (pick(g.shapes.0), pick(g.shapes.1));
+            let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
+            let exact = !matches!(
+                (sa.kind, sb.kind),
+                ("ellipse", "ellipse" | "polygon" | "box")
+                    | ("polygon" | "box", "ellipse")
+                    | ("point", "point")
+            );
+            let fixed = |s: &Shape| self.bodies[s.body].mount == Mount::Fixed;
+            let key = (a.min(b), a.max(b));
+            if sa.body == sb.body
+                || (fixed(sa) && fixed(sb))
+                || sa.switchable
+                || sb.switchable
+                || !exact
+                || written.contains(&key)
+            {
+                continue;
+            }
+            written.push(key);
+            let _ = writeln!(t, "[[contact_pairs]]\nshapes = [\"s{a}\", \"s{b}\"]");
+            if let Some((mu, e, e_t)) = g.material {
+                let _ = writeln!(
+                    t,
+                    "friction = {}\nrestitution = {}\ntangential_restitution = {}",
+                    num(2.0 * mu),
+                    num(e),
+                    num(e_t)
+                );
             }
             t.push('\n');
         }

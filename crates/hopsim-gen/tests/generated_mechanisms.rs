@@ -1,11 +1,11 @@
 //! Every generated mechanism runs without a panic, obeys its contact laws in every step
 //! and reports finite figures (docs/reliability.md, "Generated mechanisms").
 //!
-//! The budget is `HOPSIM_GEN_CASES` cases (default 1500: CI's, well under two minutes);
+//! The budget is `HOPSIM_GEN_CASES` cases (default 4000: CI's, well under a minute);
 //! `just fuzz` runs a long campaign. Seeds proptest shrank to a failure are kept in
 //! `proptest-regressions/` beside this file and run first, every time.
 
-use hopsim_gen::{genes, run_and_check, Mechanism, Outcome};
+use hopsim_gen::{genes, run_and_check, Mechanism, Outcome, RunFigures};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, FileFailurePersistence};
@@ -15,7 +15,7 @@ fn cases() -> u32 {
     std::env::var("HOPSIM_GEN_CASES")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(1500)
+        .unwrap_or(4000)
 }
 
 /// Counts of the outcomes, printed at the end (`--nocapture`).
@@ -34,6 +34,11 @@ proptest! {
         let mechanism = Mechanism::from_genes(&g);
         let outcome = run_and_check(&mechanism)
             .map_err(|v| TestCaseError::fail(format!("{}\n--- scene ---\n{}", v.0, mechanism.to_toml())))?;
+        if let Outcome::Ran(f) = &outcome {
+            check_energy(&mechanism, f).map_err(|what| {
+                TestCaseError::fail(format!("{what}\n--- scene ---\n{}", mechanism.to_toml()))
+            })?;
+        }
         let slot = match outcome {
             Outcome::Ran(_) => 0,
             Outcome::Stopped(_) => 1,
@@ -41,6 +46,42 @@ proptest! {
         };
         TALLY.lock().unwrap()[slot] += 1;
     }
+}
+
+/// The energy bounds of docs/reliability.md ("Generated mechanisms"): a damper never adds
+/// energy; a passive run of a scene without warnings keeps its balance error, and gains at
+/// most, 5 % of its energy scale (the midpoint scheme's `O(Δt)` in the generated range of
+/// `Δt`, e.g. from the velocity-product terms of light bodies turning fast); a passive run
+/// that gains more was warned about.
+fn check_energy(m: &Mechanism, f: &RunFigures) -> Result<(), String> {
+    let scale = f.energy_scale;
+    if f.max_damping_gain > 1e-12 * scale + 1e-15 {
+        return Err(format!(
+            "a damper added {:e} J in one step",
+            f.max_damping_gain
+        ));
+    }
+    if !m.is_passive() {
+        return Ok(());
+    }
+    // A scene with warnings (springs or dampers beyond the accurate range of `Δt`, materials
+    // whose impacts can add energy) was told so before its run; its gains are reported.
+    if f.warnings > 0 {
+        return Ok(());
+    }
+    if f.energy_gain > 0.05 * scale + 1e-9 {
+        return Err(format!(
+            "a passive run without warnings gained {:e} J of {scale:e} J",
+            f.energy_gain
+        ));
+    }
+    if f.max_balance_error > 0.05 * scale + 1e-9 {
+        return Err(format!(
+            "balance error {:e} J of {scale:e} J",
+            f.max_balance_error
+        ));
+    }
+    Ok(())
 }
 
 #[test]

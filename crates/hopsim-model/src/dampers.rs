@@ -1,7 +1,7 @@
 //! The model's linear dampers: joint dampers (`−c ṡ` in a joint, docs/physics.md §7.1) and
 //! spring dampers (`−c L̇` along a spring, §5.4). Each is a coefficient `c` and a row `w`
 //! of the velocities, its rate `wᵀ u`; together they are the damping matrix
-//! `C = Σ c w wᵀ` with the force `−C u` (§4.2: taken at the step's mean velocity).
+//! `C = Σ c w wᵀ` with the force `−C u` (docs/physics.md §4.9: taken at the step's mean velocity).
 
 use crate::forces::separation;
 use crate::{JointKind, Kinematics, Model};

@@ -207,8 +207,14 @@ pub(crate) fn pair_geometry(
     })
 }
 
-/// Writes `w_N = J_B(p_B)ᵀ n − J_A(p_A)ᵀ n` and `w_T` likewise (docs/physics.md §7) for the
-/// probe on body `probe` and the target on body `target`.
+/// Writes `w_N = (J_B(p) − J_A(p))ᵀ n` and `w_T = (J_B(p) − J_A(p))ᵀ t` (docs/physics.md
+/// §7.3) for the probe on body `probe` and the target on body `target`: the relative
+/// velocity of the two bodies' material points at one point, the probe's contact point
+/// `p = p_B` (as a terrain contact's, so a target on a fixed body gives the terrain's
+/// rows). Its normal part is `∂g_N/∂q` exactly (`p_A` and `p_B` differ along `n`, which a
+/// rotation does not change to first order); the tangential part is the slip at one place,
+/// so that a contact whose bodies can only move along one direction relative to each
+/// other has `w_T ∥ w_N` exactly (§4.8).
 pub(crate) fn pair_directions_to(
     kinematics: &Kinematics,
     probe: usize,
@@ -219,7 +225,7 @@ pub(crate) fn pair_directions_to(
 ) {
     let tangent = geometry.as_contact().tangent();
     let r_b = geometry.point - kinematics.position(probe);
-    let r_a = geometry.target_point - kinematics.position(target);
+    let r_a = geometry.point - kinematics.position(target);
     kinematics.frame_directions_to(probe, r_b, (geometry.normal, tangent), w_n, w_t);
     kinematics.add_point_force_to(target, r_a, -geometry.normal, w_n);
     kinematics.add_point_force_to(target, r_a, -tangent, w_t);

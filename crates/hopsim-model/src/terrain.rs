@@ -63,6 +63,10 @@ impl Terrain {
 
     /// Flat ground at `y = 0` with a step up of `height` m whose face is at `x = face_x`;
     /// the step's top edge `(face_x, height)` is a corner contact (docs/physics.md §5.2).
+    /// At the face's foot, a concave corner, the ground and the face both reach under the
+    /// step: a point pushed into that corner is held by both lines (the ground below it, the
+    /// face before it), never let through between them. The parts of a line under the step
+    /// are not drawn ([`Terrain::hides`]).
     pub fn step(face_x: f64, height: f64) -> Self {
         let up = Vec2::new(0.0, 1.0);
         let left = Vec2::new(-1.0, 0.0);
@@ -72,12 +76,12 @@ impl Terrain {
                     origin: Vec2::new(face_x, 0.0),
                     normal: up,
                     from: f64::NEG_INFINITY,
-                    to: 0.0,
+                    to: f64::INFINITY,
                 },
                 TerrainFeature::Line {
                     origin: Vec2::new(face_x, 0.0),
                     normal: left,
-                    from: 0.0,
+                    from: f64::NEG_INFINITY,
                     to: height,
                 },
                 TerrainFeature::Line {
@@ -93,6 +97,26 @@ impl Terrain {
                 },
             ],
         }
+    }
+
+    /// Whether point `p` lies strictly inside the terrain behind a line feature other than
+    /// `except` (strictly within that line's extent): a piece of line there is under the surface,
+    /// not part of it (for drawing).
+    pub fn hides(&self, p: Vec2, except: usize) -> bool {
+        self.features.iter().enumerate().any(|(i, f)| match f {
+            TerrainFeature::Line {
+                origin,
+                normal,
+                from,
+                to,
+            } if i != except => {
+                let rel = p - origin;
+                let s = rel.dot(&TerrainFeature::tangent(*normal));
+                let eps = 1e-9 * (1.0 + p.norm());
+                s > from + eps && s < to - eps && rel.dot(normal) < -eps
+            }
+            _ => false,
+        })
     }
 
     /// The terrain height below `x` (the highest line feature covering `x`), used for

@@ -482,7 +482,8 @@ proptest! {
     /// A point shape at random poses above flat ground and around a step: its world
     /// position, transformed by hand, is the contact point, and the gaps are its heights
     /// above the ground and the step's top and its distance from the face, each reported
-    /// only where the point lies over that line's extent.
+    /// only where the point lies over that line's extent (the ground's and the face's reach
+    /// on past the face's foot, under the step: docs/physics.md §2.1).
     #[test]
     fn point_above_flat_ground_and_a_step(
         px in -0.2..0.2f64, py in -0.2..0.2f64,
@@ -505,15 +506,12 @@ proptest! {
         prop_assume!((p.x - face).abs() > 1e-9 && (p.y - height).abs() > 1e-9);
         let m = model(Shape::Point { position }, Terrain::step(face, height));
         let got = reported(&m, pose);
-        let mut expected: Vec<(usize, f64)> = Vec::new();
-        if p.x < face {
-            expected.push((0, p.y));
-            // The face spans the heights 0 to `height`; a point below the ground is not
-            // over it.
-            if (0.0..=height).contains(&p.y) {
-                expected.push((1, face - p.x));
-            }
-        } else {
+        let mut expected: Vec<(usize, f64)> = vec![(0, p.y)];
+        // The face spans every height up to `height`.
+        if p.y <= height {
+            expected.push((1, face - p.x));
+        }
+        if p.x > face {
             expected.push((2, p.y - height));
         }
         let mut seen: Vec<(usize, f64)> = got.iter().map(|c| (c.0, c.2.gap)).collect();

@@ -295,6 +295,19 @@ pub enum EventKind {
     /// percussion in that step, N m s (revolute joint) or N s (prismatic joint)
     /// (docs/physics.md §7).
     JointLimit { limit: String, impulse: f64 },
+    /// An impact at `contact` added `energy` J (its percussions' work over the step's mean
+    /// velocity was positive): Newton's law with `ε_T ≠ ε_N` and friction can do that
+    /// (docs/physics.md §4.7).
+    EnergyCreated {
+        contact: String,
+        #[serde(rename = "energy_J")]
+        energy: f64,
+    },
+    /// A frictional contact started carrying load while its bodies could move relative to
+    /// each other along one direction only there: its friction is indeterminate (a jam of
+    /// rigid Coulomb friction), and it is resolved without it (docs/physics.md §4.8);
+    /// `impulse` is its normal percussion, N s.
+    IndeterminateFriction { contact: String, impulse: f64 },
 }
 
 impl EventKind {
@@ -308,6 +321,8 @@ impl EventKind {
             EventKind::ShapeContact { .. } => "shape_contact",
             EventKind::AppliedImpulse { .. } => "applied_impulse",
             EventKind::JointLimit { .. } => "joint_limit",
+            EventKind::EnergyCreated { .. } => "energy_created",
+            EventKind::IndeterminateFriction { .. } => "indeterminate_friction",
         }
     }
 }
@@ -327,6 +342,12 @@ impl fmt::Display for EventKind {
             EventKind::AppliedImpulse { magnitude } => write!(f, "magnitude={magnitude:?}"),
             EventKind::JointLimit { limit, impulse } => {
                 write!(f, "limit={limit} impulse={impulse:?}")
+            }
+            EventKind::EnergyCreated { contact, energy } => {
+                write!(f, "contact={contact} energy_J={energy:?}")
+            }
+            EventKind::IndeterminateFriction { contact, impulse } => {
+                write!(f, "contact={contact} impulse={impulse:?}")
             }
         }
     }

@@ -2,7 +2,7 @@
 //! they are drawn, series colours, units of the generalised coordinates.
 
 use crate::RecordingInfo;
-use hopsim_model::{Shape, Terrain, TerrainFeature};
+use hopsim_model::{Shape, Terrain, TerrainFeature, Vec2};
 use std::f64::consts::TAU;
 
 /// A planar point, m.
@@ -218,6 +218,26 @@ pub(crate) fn wrap_angle(angle: f64) -> f64 {
 /// The terrain between abscissae `x_lo` and `x_hi`: line pieces as segments (infinite
 /// pieces cut to the range) and corner points. A piece not crossing the range in `x`
 /// (a vertical step face) is kept when its ends lie within it.
+/// The parameters in `(s0, s1)` where the line `origin + s t` crosses the terrain's other
+/// lines.
+fn crossings(terrain: &Terrain, origin: Vec2, t: Vec2, s0: f64, s1: f64) -> Vec<f64> {
+    terrain
+        .features
+        .iter()
+        .filter_map(|f| match f {
+            TerrainFeature::Line {
+                origin: o, normal, ..
+            } => {
+                // (origin + s t − o) · n = 0.
+                let rate = t.dot(normal);
+                (rate.abs() > 1e-12).then(|| (o - origin).dot(normal) / rate)
+            }
+            TerrainFeature::Corner { .. } => None,
+        })
+        .filter(|s| *s > s0 && *s < s1)
+        .collect()
+}
+
 pub(crate) fn terrain_pieces(
     terrain: &Terrain,
     x_lo: f64,
@@ -225,7 +245,7 @@ pub(crate) fn terrain_pieces(
 ) -> (Vec<[Point; 2]>, Vec<Point>) {
     let mut segments = Vec::new();
     let mut corners = Vec::new();
-    for feature in &terrain.features {
+    for (index, feature) in terrain.features.iter().enumerate() {
         match feature {
             TerrainFeature::Line {
                 origin,
@@ -247,7 +267,16 @@ pub(crate) fn terrain_pieces(
                 let (s0, s1) = (from.max(s_lo), to.min(s_hi));
                 if s0 < s1 {
                     let at = |s: f64| [origin.x + s * t.x, origin.y + s * t.y];
-                    segments.push([at(s0), at(s1)]);
+                    // Split where other lines cross it; draw the pieces on the surface.
+                    let mut cuts = vec![s0, s1];
+                    cuts.extend(crossings(terrain, *origin, t, s0, s1));
+                    cuts.sort_by(f64::total_cmp);
+                    for piece in cuts.windows(2).filter(|w| w[1] > w[0]) {
+                        let middle = *origin + 0.5 * (piece[0] + piece[1]) * t;
+                        if !terrain.hides(middle, index) {
+                            segments.push([at(piece[0]), at(piece[1])]);
+                        }
+                    }
                 }
             }
             TerrainFeature::Corner { point, .. } => {

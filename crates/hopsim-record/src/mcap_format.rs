@@ -250,7 +250,9 @@ fn event_schema() -> Value {
                     "shape_switch",
                     "shape_contact",
                     "applied_impulse",
-                    "joint_limit"
+                    "joint_limit",
+                    "energy_created",
+                    "indeterminate_friction"
                 ],
             }),
         )])),
@@ -261,8 +263,17 @@ fn event_schema() -> Value {
             json!({
                 "type": "string",
                 "description": "touchdown: the contact that landed; shape_contact: the \
-                                switchable shape's contact that started carrying load"
+                                switchable shape's contact that started carrying load; \
+                                energy_created: the contact whose impact added energy; \
+                                indeterminate_friction: the contact resolved without friction"
             }),
+        ),
+        (
+            "energy_J",
+            number(
+                "energy_created: the work of the contact's percussions in the impact, J \
+                 (docs/physics.md §4.7)",
+            ),
         ),
         (
             "impulse_Nms",
@@ -292,7 +303,8 @@ fn event_schema() -> Value {
             "impulse",
             number(
                 "joint_limit: the stop's percussion in that step, N m s (revolute joint) or \
-                 N s (prismatic joint) (docs/physics.md §7)",
+                 N s (prismatic joint) (docs/physics.md §7); indeterminate_friction: the \
+                 contact's normal percussion, N s (docs/physics.md §4.8)",
             ),
         ),
     ]);

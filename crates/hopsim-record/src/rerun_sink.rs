@@ -894,6 +894,8 @@ fn event_color(kind: &EventKind) -> Color {
         EventKind::ShapeContact { .. } => Color::from_rgb(140, 86, 75),
         EventKind::AppliedImpulse { .. } => Color::from_rgb(255, 127, 14),
         EventKind::JointLimit { .. } => Color::from_rgb(23, 190, 207),
+        EventKind::EnergyCreated { .. } => Color::from_rgb(227, 119, 194),
+        EventKind::IndeterminateFriction { .. } => Color::from_rgb(188, 189, 34),
     }
 }
 

@@ -21,6 +21,7 @@ mod schema;
 mod settings;
 mod start;
 mod tree;
+mod warnings;
 
 pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
@@ -31,3 +32,4 @@ pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use settings::{Meta, Settings, MIN_DT};
 pub use start::{check_start, StartProblem, PENETRATION_TOL};
 pub use tree::MAX_DEPTH;
+pub use warnings::{warnings, DAMPER_RATIO, IMPACT_TRAVEL, SPRING_OMEGA_DT, TURN_PER_STEP};

@@ -26,7 +26,7 @@ pub use observer::{Observer, StepView};
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
 pub use run::{run, run_for};
-pub use simulation::{Simulation, PANIC_AT_STEP};
+pub use simulation::{Simulation, CREATED_ENERGY, IMPACT_STEPS, PANIC_AT_STEP};
 pub use summary::{
     per_forward_metre, EnergySummary, ImpulseSummary, LcpSummary, Summary, WindowTotals,
     IMPULSE_UNIT,

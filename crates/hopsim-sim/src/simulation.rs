@@ -4,7 +4,7 @@ use crate::{panic_message, FlightEvent, FlightTracker, Observer, RunError, StepV
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{recorded_time, Event, EventKind};
 use hopsim_scene::Scene;
-use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, Stepper};
+use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, StepRecord, Stepper};
 use std::ops::Deref;
 use std::sync::Arc;
 
@@ -45,12 +45,21 @@ pub struct Simulation<'s> {
     /// Per contact: whether it carried load in the previous step, and in this one.
     was_loaded: Vec<bool>,
     loaded_now: Vec<bool>,
+    /// The contacts resolved without friction, for `indeterminate_friction` events.
+    friction_indeterminate: Onsets,
     /// `(step, t, message)` of a step that panicked: every later step returns that
     /// internal error again.
     failed: Option<(u64, f64, String)>,
     /// Test hook: the step that panics on purpose ([`PANIC_AT_STEP`]).
     panic_at: Option<u64>,
 }
+
+/// A contact approaching faster than this many steps of free fall give is an impact
+/// ([`Simulation`]'s `energy_created` events).
+pub const IMPACT_STEPS: f64 = 10.0;
+
+/// Work of an impact's percussions above which it counts as having added energy, J.
+pub const CREATED_ENERGY: f64 = 1e-9;
 
 /// Environment variable naming a step in which every [`Simulation`] created afterwards
 /// panics on purpose: a test hook for the panic boundary (docs/reliability.md, "Panics").
@@ -93,6 +102,7 @@ impl<'s> Simulation<'s> {
             .map(|c| scene.switchable.contains(&c.shape))
             .collect();
         let contacts = model.contacts.len();
+        let contact_count = model.contact_count();
         let flight = FlightTracker::starting(stepper.record().min_gap);
         Self {
             scene,
@@ -109,6 +119,7 @@ impl<'s> Simulation<'s> {
             switchable_contact,
             was_loaded: vec![false; contacts],
             loaded_now: vec![false; contacts],
+            friction_indeterminate: Onsets::new(contact_count),
             failed: None,
             panic_at: panic_at_step(),
         }
@@ -136,6 +147,7 @@ impl<'s> Simulation<'s> {
         self.flight = FlightTracker::starting(self.stepper.record().min_gap);
         self.loaded = !self.flight.airborne();
         self.was_loaded.fill(false);
+        self.friction_indeterminate = Onsets::new(self.scene.model.contact_count());
     }
 
     /// Keeps the stepper's energy account or not ([`Stepper::set_ledger`]; on by default):
@@ -343,6 +355,9 @@ impl<'s> Simulation<'s> {
             }
             std::mem::swap(&mut self.was_loaded, &mut self.loaded_now);
         }
+        impacts_creating_energy(model, record, self.scene.settings.dt, &mut self.events);
+        self.friction_indeterminate
+            .events(model, record, &mut self.events);
         let (step, min_gap) = (record.step, record.min_gap);
         match self.flight.update(self.state.t, step, self.loaded, min_gap) {
             Some(FlightEvent::TakeOff { t, step }) => self.events.push(Event {
@@ -399,5 +414,85 @@ impl<'s> Simulation<'s> {
                 (None, None) => 0.0,
             },
         }
+    }
+}
+
+/// An `energy_created` event for every contact of `record` whose impact added energy
+/// (docs/physics.md §4.7): it approached faster than [`IMPACT_STEPS`] steps of free fall
+/// give (an impact, not lasting contact, whose work over the step's mean velocity is the
+/// scheme's `O(Δt²)` either way) and its percussions' work exceeds [`CREATED_ENERGY`].
+fn impacts_creating_energy(
+    model: &hopsim_model::Model,
+    record: &hopsim_step::StepRecord,
+    dt: f64,
+    events: &mut Vec<Event>,
+) {
+    let impact = (IMPACT_STEPS * model.gravity.norm() * dt).max(1e-9);
+    let terrain = record.contacts.iter().map(|c| (c, c.contact));
+    let pairs = record
+        .pair_contacts
+        .iter()
+        .map(|c| (c, model.contacts.len() + c.contact));
+    for (c, i) in terrain.chain(pairs) {
+        if c.approach_velocity < -impact && c.work > CREATED_ENERGY {
+            events.push(Event {
+                t: record.t,
+                step: record.step,
+                kind: EventKind::EnergyCreated {
+                    contact: model.contact_name(i).to_string(),
+                    energy: c.work,
+                },
+            });
+        }
+    }
+}
+
+/// Which contacts had a property in the last step, to report when it starts.
+struct Onsets {
+    before: Vec<bool>,
+    now: Vec<bool>,
+}
+
+impl Onsets {
+    fn new(contacts: usize) -> Self {
+        Self {
+            before: vec![false; contacts],
+            now: vec![false; contacts],
+        }
+    }
+
+    /// An `indeterminate_friction` event for each frictional contact of `record` that
+    /// carries load while its rows are dependent (docs/physics.md §4.8) and did not in the
+    /// step before.
+    fn events(
+        &mut self,
+        model: &hopsim_model::Model,
+        record: &StepRecord,
+        events: &mut Vec<Event>,
+    ) {
+        self.now.fill(false);
+        let terrain = record.contacts.iter().map(|c| (c, c.contact));
+        let pairs = record
+            .pair_contacts
+            .iter()
+            .map(|c| (c, model.contacts.len() + c.contact));
+        for (c, i) in terrain.chain(pairs) {
+            let frictional = model.material(i).friction > 0.0;
+            if !(c.dependent && frictional && c.state != ContactState::Open) {
+                continue;
+            }
+            self.now[i] = true;
+            if !self.before[i] {
+                events.push(Event {
+                    t: record.t,
+                    step: record.step,
+                    kind: EventKind::IndeterminateFriction {
+                        contact: model.contact_name(i).to_string(),
+                        impulse: c.impulse_normal,
+                    },
+                });
+            }
+        }
+        std::mem::swap(&mut self.before, &mut self.now);
     }
 }

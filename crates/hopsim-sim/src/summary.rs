@@ -32,6 +32,11 @@ pub struct EnergySummary {
     pub at_end: EnergySample,
     /// The largest `|balance error|` over all steps.
     pub max_abs_balance_error: f64,
+    /// Impacts whose percussions added energy (`energy_created` events, docs/physics.md
+    /// §4.7) and the energy they added, J.
+    pub impacts_creating_energy: u64,
+    #[serde(rename = "created_in_impacts_J")]
+    pub created_in_impacts: f64,
 }
 
 /// LCP statistics.
@@ -103,6 +108,8 @@ pub(crate) struct SummaryCollector {
     window_brakes: u64,
     max_penetration: f64,
     max_balance_error: f64,
+    impacts_creating_energy: u64,
+    created_in_impacts: f64,
 }
 
 impl SummaryCollector {
@@ -128,6 +135,8 @@ impl SummaryCollector {
             window_impulse: 0.0,
             window_brakes: 0,
             max_penetration: 0.0,
+            impacts_creating_energy: 0,
+            created_in_impacts: 0.0,
             max_balance_error: 0.0,
         }
     }
@@ -158,6 +167,8 @@ impl SummaryCollector {
             energy: EnergySummary {
                 at_end: EnergySample::from_ledger(&end.record.energy),
                 max_abs_balance_error: self.max_balance_error,
+                impacts_creating_energy: self.impacts_creating_energy,
+                created_in_impacts: self.created_in_impacts,
             },
             max_penetration_m: self.max_penetration,
             lcp: LcpSummary {
@@ -236,6 +247,11 @@ impl Observer for SummaryCollector {
                 EventKind::AppliedImpulse { magnitude } => magnitude,
                 EventKind::TakeOff => {
                     self.hops += 1;
+                    continue;
+                }
+                EventKind::EnergyCreated { energy, .. } => {
+                    self.impacts_creating_energy += 1;
+                    self.created_in_impacts += energy;
                     continue;
                 }
                 _ => continue,

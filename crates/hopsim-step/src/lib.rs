@@ -19,7 +19,7 @@ pub use record::{
     StepRecord, STATE_MARGIN,
 };
 pub use state::State;
-pub use stepper::{StepError, StepSettings, Stepper};
+pub use stepper::{StepError, StepSettings, Stepper, DEPENDENT_ROWS};
 pub use trace::{
     ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance, MAX_TRACE_BYTES,
 };

@@ -44,6 +44,15 @@ pub struct ContactRecord {
     /// Normal contact velocity law value `ξ_N = γ_N^E + ε_N γ_N^A` at the end of the step,
     /// m/s: `≥ 0`, and `0` where `Λ_N > 0` (docs/physics.md §4).
     pub normal_velocity: f64,
+    /// Normal contact velocity at the start of the step `γ_N^A`, m/s (< 0: approaching).
+    pub approach_velocity: f64,
+    /// The work of the contact's percussions over the step's mean velocity,
+    /// `Λ_N (γ_N^A + γ_N^E)/2 + Λ_T (γ_T^A + γ_T^E)/2`, J: its share of the ledger's
+    /// contact work (docs/physics.md §6.1); positive when the contact added energy.
+    pub work: f64,
+    /// Whether its tangential row depended on its normal one in this step, so that it was
+    /// resolved without friction (docs/physics.md §4.8).
+    pub dependent: bool,
     /// Open, stick or slip.
     pub state: ContactState,
 }
@@ -55,7 +64,8 @@ pub struct ContactRecord {
 pub struct Resolution {
     /// Velocities `ξ_N`, `ξ_T`: the certificate's tolerance, m/s (or rad/s).
     pub velocity: f64,
-    /// Percussions `Λ`: the tolerance over `‖A‖_∞`, N s (or N m s).
+    /// Percussions `Λ`: the larger of the tolerance over `‖A‖_∞` (for `Λ_N`, `Λ_R`, unknowns
+    /// of the LCP) and the tolerance itself (for `Λ_L`, an entry of `w`), N s (or N m s).
     pub impulse: f64,
 }
 

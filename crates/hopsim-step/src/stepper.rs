@@ -133,7 +133,7 @@ pub struct Stepper {
     h: Vec<f64>,
     /// The explicit damping force `−C u^A` (part of `h`).
     damping: Vec<f64>,
-    /// The dampers acting in this step (docs/physics.md §4.2): their coefficients `c` and
+    /// The dampers acting in this step (docs/physics.md §4.9): their coefficients `c` and
     /// rows `w` (row-major `d × n`), `C = Σ c w wᵀ`.
     damper_count: usize,
     damper_c: Vec<f64>,
@@ -162,6 +162,11 @@ pub struct Stepper {
     gamma_t: Vec<f64>,
     lambda_n: Vec<f64>,
     lambda_t: Vec<f64>,
+    /// The friction coefficient each closed contact has in this step's LCP: its material's
+    /// `μ`, or 0 when its tangential row depends on its normal one (`dependent`,
+    /// docs/physics.md §4.8).
+    friction: Vec<f64>,
+    dependent: Vec<bool>,
     /// `ξ_T` of each closed contact (NaN after the frictionless fallback, until `u^E`).
     slip: Vec<f64>,
     /// Closed joint stops (docs/physics.md §7): their indices into `Model::limits`, gaps, rows
@@ -243,6 +248,8 @@ impl Stepper {
             lambda_n: vector(k),
             lambda_t: vector(k),
             slip: vector(k),
+            friction: vector(k),
+            dependent: vec![false; k],
             active_limits: Vec::with_capacity(limits),
             limit_gap: vector(limits),
             w_limit: vector(limits * n),
@@ -483,7 +490,7 @@ impl Stepper {
         Ok(())
     }
 
-    /// The damping taken at the step's mean velocity (docs/physics.md §4.2): with the
+    /// The damping taken at the step's mean velocity (docs/physics.md §4.9): with the
     /// explicit `−C u^A` in `h`, the step's matrix is `M + Δt/2 C`, so that the damping
     /// force over the step is `−C (u^A + u^E)/2` and its work `−Δt ūᵀ C ū ≤ 0` at any `Δt`.
     #[inline]
@@ -669,13 +676,15 @@ impl Stepper {
         let ld = self.lcp_a.nrows();
         // Every entry of the `size × size` block is written once below (the zeros too), so
         // nothing is cleared first.
+        self.contact_friction::<N>(model, k);
         let a = self.lcp_a.as_mut_slice();
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
             let mat_r = &model.material(self.active[r]);
+            let mu_r = self.friction[r];
             let (w_n, w_t) = (row(&self.w_n, n, r), row(&self.w_t, n, r));
             for c in 0..k {
-                let mu_c = model.material(self.active[c]).friction;
+                let mu_c = self.friction[c];
                 let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
                 let g_nn = dot(w_n, gw_n);
                 let g_nt = dot(w_n, gw_t);
@@ -689,7 +698,7 @@ impl Stepper {
                 let own = r == c;
                 a[(2 * k + c) * ld + r] = 0.0;
                 a[(2 * k + c) * ld + k + r] = if own { 1.0 } else { 0.0 };
-                a[c * ld + 2 * k + r] = if own { 2.0 * mat_r.friction } else { 0.0 };
+                a[c * ld + 2 * k + r] = if own { 2.0 * mu_r } else { 0.0 };
                 a[(k + c) * ld + 2 * k + r] = if own { -1.0 } else { 0.0 };
                 a[(2 * k + c) * ld + 2 * k + r] = 0.0;
             }
@@ -721,7 +730,7 @@ impl Stepper {
         self.record.lcp_pivots = solution.pivots;
         self.record.resolution = Resolution {
             velocity: solution.certificate.tolerance,
-            impulse: solution.certificate.z_tolerance(),
+            impulse: impulse_resolution(&solution.certificate),
         };
         if solution.status == LcpStatus::Solved {
             // Λ_T = Λ_R − μ Λ_N, ξ_T = ξ_R − ξ_L. The certified solution meets the LCP to
@@ -729,7 +738,7 @@ impl Stepper {
             // Coulomb cone (Λ_N ≥ 0, |Λ_T| ≤ μ Λ_N) moves them within that tolerance and
             // keeps friction from doing positive work through round-off (e.g. at μ = 0).
             for c in 0..k {
-                let mu = model.material(self.active[c]).friction;
+                let mu = self.friction[c];
                 let normal = solution.z[c].max(0.0);
                 let limit = mu * normal;
                 self.lambda_n[c] = normal;
@@ -755,6 +764,29 @@ impl Stepper {
         self.solve_frictionless_lcp(k, step, t)
     }
 
+    /// Each closed contact's friction coefficient in this step (docs/physics.md §4.8): its
+    /// material's `μ`, unless its rows `w_N`, `w_T` are dependent in the metric `G` (the
+    /// bodies can move relative to each other along one direction only there, e.g. a
+    /// prismatic child against its parent, any contact of a one-coordinate mechanism): then
+    /// friction cannot act on its own, Coulomb's law leaves its percussions indeterminate
+    /// (and Newton's law with `ε_T ≠ ε_N` contradicts itself), and the contact is a
+    /// frictionless one, which moves the bodies exactly as the consistent law would.
+    fn contact_friction<const N: usize>(&mut self, model: &Model, k: usize) {
+        let n = dof::<N>(self.n);
+        for c in 0..k {
+            let (w_n, w_t) = (row(&self.w_n, n, c), row(&self.w_t, n, c));
+            let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
+            let (g_nn, g_nt, g_tt) = (dot(w_n, gw_n), dot(w_n, gw_t), dot(w_t, gw_t));
+            let dependent = g_nn * g_tt - g_nt * g_nt <= DEPENDENT_ROWS * g_nn * g_tt;
+            self.dependent[c] = dependent;
+            self.friction[c] = if dependent {
+                0.0
+            } else {
+                model.material(self.active[c]).friction
+            };
+        }
+    }
+
     /// The rows and columns of the `l` closed joint stops in the LCP of §4.3 (docs/physics.md
     /// §7): unknowns `Λ_J` after `(Λ_N, Λ_R, ξ_L)`, frictionless normal rows
     /// `ξ_J = w_Jᵀ u^E + ε γ_J^A ⟂ Λ_J`, with `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)`.
@@ -768,7 +800,7 @@ impl Stepper {
             let w_j = row(&self.w_limit, n, r);
             let gw_j = row(&self.solved, n, 1 + 2 * k + r);
             for c in 0..k {
-                let mu_c = model.material(self.active[c]).friction;
+                let mu_c = self.friction[c];
                 let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
                 // The stop's row: Λ_T = Λ_R − μ Λ_N enters through the Λ_N and Λ_R columns.
                 let g_jt = dot(w_j, gw_t);
@@ -836,7 +868,7 @@ impl Stepper {
         }
         self.record.resolution = Resolution {
             velocity: solution.certificate.tolerance,
-            impulse: solution.certificate.z_tolerance(),
+            impulse: impulse_resolution(&solution.certificate),
         };
         for c in 0..k {
             self.lambda_n[c] = solution.z[c].max(0.0);
@@ -907,9 +939,12 @@ impl Stepper {
                 xi_t = dot(&self.w_t[c * n..(c + 1) * n], &self.u_end)
                     + material.restitution_tangent * self.gamma_t[c];
             }
-            let xi_n = dot(&self.w_n[c * n..(c + 1) * n], &self.u_end)
-                + material.restitution_normal * self.gamma_n[c];
-            let state = ContactState::classify(ln, lt, xi_t, material.friction, resolution);
+            let gamma_n_end = dot(&self.w_n[c * n..(c + 1) * n], &self.u_end);
+            let gamma_t_end = dot(&self.w_t[c * n..(c + 1) * n], &self.u_end);
+            let xi_n = gamma_n_end + material.restitution_normal * self.gamma_n[c];
+            let work =
+                0.5 * (ln * (self.gamma_n[c] + gamma_n_end) + lt * (self.gamma_t[c] + gamma_t_end));
+            let state = ContactState::classify(ln, lt, xi_t, self.friction[c], resolution);
             let geom = self.geometry[c];
             // Terrain contacts, then body–body contacts (numbered from 0 in their list).
             let terrain = model.contacts.len();
@@ -926,6 +961,9 @@ impl Stepper {
                 impulse_tangent: lt,
                 slip_velocity: xi_t,
                 normal_velocity: xi_n,
+                approach_velocity: self.gamma_n[c],
+                work,
+                dependent: self.dependent[c],
                 state,
             });
         }
@@ -1068,6 +1106,19 @@ impl Stepper {
         }
     }
 }
+
+/// The resolution of a certified answer's percussions: `Λ_N`, `Λ_R` are unknowns `z`,
+/// certified to the tolerance over `‖A‖_∞`; `Λ_L = 2μΛ_N − Λ_R` is an entry of `w`,
+/// certified to the tolerance itself (the LCP of docs/physics.md §4.3 mixes units in `w`).
+/// The larger of the two bounds both.
+fn impulse_resolution(certificate: &hopsim_lcp::Certificate) -> f64 {
+    certificate.z_tolerance().max(certificate.tolerance)
+}
+
+/// A contact's rows `w_N`, `w_T` are dependent when `G_NN G_TT − G_NT² ≤ DEPENDENT_ROWS
+/// G_NN G_TT` (their angle in the metric `G` below about 3e-5 rad; exactly dependent rows
+/// leave round-off of about 1e-15): see `Stepper::contact_friction`.
+pub const DEPENDENT_ROWS: f64 = 1e-9;
 
 /// The number of coordinates `n` of a stage compiled for `N` of them (`N = 0`: any).
 #[inline(always)]

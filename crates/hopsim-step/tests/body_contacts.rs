@@ -58,10 +58,15 @@ impl Discs {
                 q[3 * b + 1] + 0.5 * dt * u[3 * b + 1],
             )
         };
-        let n = (centre(1) - centre(0)).normalize();
+        let d = centre(1) - centre(0);
+        let n = d.normalize();
         let t = Vec2::new(n.y, -n.x);
         let v = |b: usize| Vec2::new(u[3 * b], u[3 * b + 1]);
-        let (m, i, r) = (self.m, self.inertia, self.r);
+        let (m, i) = (self.m, self.inertia);
+        // The contact point is the probe's, disc 0's `c_0 + r_0 n`: its lever is its
+        // radius, disc 1's is `|p − c_1| = r_1 + g` (docs/physics.md §7.3).
+        let gap = d.norm() - self.r[0] - self.r[1];
+        let r = [self.r[0], self.r[1] + gap];
         let gamma_n = n.dot(&(v(1) - v(0)));
         let gamma_t = t.dot(&(v(1) - v(0))) + r[0] * u[2] + r[1] * u[5];
         let g_nn = 1.0 / m[0] + 1.0 / m[1];

@@ -243,6 +243,14 @@ impl fmt::Display for RunReport {
             "                     actuator work {:.4} J, dissipated {:.4} J, balance error {:.2e} J (max {:.2e} J)",
             e.actuator_work, e.dissipated, e.balance_error, s.energy.max_abs_balance_error
         )?;
+        if s.energy.impacts_creating_energy > 0 {
+            writeln!(
+                f,
+                "  energy created     {:.4e} J in {} impacts (tangential restitution ≠ normal \
+                 with friction; docs/physics.md §4.7)",
+                s.energy.created_in_impacts, s.energy.impacts_creating_energy
+            )?;
+        }
         writeln!(f, "  max penetration    {:>10.3e} m", s.max_penetration_m)?;
         writeln!(
             f,
