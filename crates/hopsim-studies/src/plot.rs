@@ -25,6 +25,10 @@
 //! A new kind of figure implements [`Figure`] (drawing on any plotters backend) and gets
 //! PNG/SVG output from [`write_png_and_svg`] and [`stage_png_and_svg`].
 
+mod font;
+
+pub use font::Typeset;
+
 use crate::error::{Result, StudyError};
 use hopsim_io::{AtomicPath, IoError};
 use plotters::coord::Shift;
@@ -49,9 +53,6 @@ fn upx(v: f64) -> u32 {
     px(v).max(0) as u32
 }
 
-/// Font family of all text.
-const FONT: &str = "sans-serif";
-
 /// Font sizes in design units: title, axis descriptions, tick labels and legend.
 const TITLE_FONT: f64 = 22.0;
 const AXIS_FONT: f64 = 17.0;
@@ -67,14 +68,16 @@ pub trait Figure {
     fn size(&self) -> (u32, u32) {
         DEFAULT_SIZE
     }
-    /// Draws the figure on `root` (already sized; not yet filled).
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult;
+    /// Draws the figure on `root` (already sized; not yet filled), whose text is set in
+    /// the embedded font ([`Typeset`]).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<Typeset<DB>, Shift>) -> DrawResult;
 }
 /// Draws `figure` as a PNG file into a temporary file for `path`, committed by the caller.
 fn stage_png<F: Figure>(figure: &F, path: &Path) -> Result<AtomicPath> {
     let output = AtomicPath::create(path)?;
     {
-        let root = BitMapBackend::new(output.temporary(), figure.size()).into_drawing_area();
+        let backend = BitMapBackend::new(output.temporary(), figure.size());
+        let root = Typeset::raster(backend).into_drawing_area();
         figure
             .draw(&root)
             .and_then(|()| root.present().map_err(|e| e.to_string()))
@@ -87,7 +90,8 @@ fn stage_png<F: Figure>(figure: &F, path: &Path) -> Result<AtomicPath> {
 fn stage_svg<F: Figure>(figure: &F, path: &Path) -> Result<AtomicPath> {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, figure.size()).into_drawing_area();
+        let backend = SVGBackend::with_string(&mut svg, figure.size());
+        let root = Typeset::vector(backend).into_drawing_area();
         figure
             .draw(&root)
             .and_then(|()| root.present().map_err(|e| e.to_string()))
@@ -427,8 +431,9 @@ fn tick_step((lo, hi): (f64, f64)) -> f64 {
         .unwrap_or(10.0 * k)
 }
 
+/// The text style of `size` design units in the embedded font.
 fn text_style(size: f64) -> TextStyle<'static> {
-    TextStyle::from((FONT, px(size) as f64).into_font())
+    TextStyle::from((font::FAMILY, px(size) as f64).into_font())
 }
 
 /// The pixel size of `text` in `style` on `area` (a generous estimate if the backend cannot
@@ -1116,7 +1121,7 @@ impl Figure for LinePlot {
         self.size
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<Typeset<DB>, Shift>) -> DrawResult {
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         // On a logarithmic axis the chart's coordinate is log10 x.
         let to_chart = |x: f64| if self.log_x { x.log10() } else { x };
@@ -1186,7 +1191,7 @@ impl Figure for PlotStack {
         self.size
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<Typeset<DB>, Shift>) -> DrawResult {
         if self.panels.is_empty() {
             return Err("a plot stack needs at least one panel".into());
         }
@@ -1333,7 +1338,7 @@ impl Figure for Heatmap {
         self.size
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<Typeset<DB>, Shift>) -> DrawResult {
         let (nx, ny) = (self.x.len(), self.y.len());
         check_grid("heatmap", "values", nx, ny, self.values.len())?;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
@@ -1481,7 +1486,7 @@ impl Figure for CategoryMap {
         self.size
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<Typeset<DB>, Shift>) -> DrawResult {
         let (nx, ny) = (self.x.len(), self.y.len());
         check_grid("category map", "cells", nx, ny, self.cells.len())?;
         root.fill(&WHITE).map_err(|e| e.to_string())?;

@@ -67,7 +67,7 @@ impl Figure for AnyFigure {
 
     fn draw<DB: plotters::prelude::DrawingBackend>(
         &self,
-        root: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+        root: &plotters::prelude::DrawingArea<crate::plot::Typeset<DB>, plotters::coord::Shift>,
     ) -> crate::plot::DrawResult {
         match self {
             AnyFigure::Line(f) => f.draw(root),

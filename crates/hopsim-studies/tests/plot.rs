@@ -2,7 +2,7 @@
 
 use hopsim_studies::plot::{
     free_legend_place, robust_range, three_significant_digits, tick_label, write_png_and_svg,
-    CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle,
+    CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle, Typeset,
 };
 use plotters::prelude::*;
 
@@ -11,7 +11,8 @@ fn render<F: Figure>(figure: &F) -> (u32, u32, Vec<u8>) {
     let (w, h) = figure.size();
     let mut buffer = vec![0u8; (w * h * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+        let backend = BitMapBackend::with_buffer(&mut buffer, (w, h));
+        let root = Typeset::raster(backend).into_drawing_area();
         figure.draw(&root).unwrap();
         root.present().unwrap();
     }
