@@ -109,13 +109,16 @@ fn plot_error(path: &Path, message: String) -> StudyError {
     }
 }
 
+/// The files of the figure `stem`: `stem.png` and `stem.svg`.
+pub fn figure_paths(stem: &Path) -> [PathBuf; 2] {
+    ["png", "svg"].map(|extension| stem.with_extension(extension))
+}
+
 /// Draws `stem.png` and `stem.svg` into temporary files, committed by the caller (so that a
 /// set of files appears together, [`crate::write_files`]).
 pub fn stage_png_and_svg<F: Figure>(figure: &F, stem: &Path) -> Result<Vec<AtomicPath>> {
-    Ok(vec![
-        stage_png(figure, &stem.with_extension("png"))?,
-        stage_svg(figure, &stem.with_extension("svg"))?,
-    ])
+    let [png, svg] = figure_paths(stem);
+    Ok(vec![stage_png(figure, &png)?, stage_svg(figure, &svg)?])
 }
 
 /// Writes `stem.png` and `stem.svg` (atomically, both or neither); returns both paths.

@@ -200,10 +200,11 @@ fn figures_are_written_as_png_and_svg() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 6);
 }
 
-/// A set of report files is written whole or not at all: a figure that cannot be drawn,
-/// listed after a CSV table and a good figure, leaves none of them (and no temporary file).
+/// Tables come before figures, and a figure never costs data: a figure that cannot be
+/// drawn, listed before a CSV table and a good figure, leaves its own two files out and is
+/// reported, while the table and the good figure are written (and no temporary file stays).
 #[test]
-fn a_failed_file_leaves_none_of_its_set() {
+fn a_figure_that_cannot_be_drawn_leaves_the_tables_written() {
     use hopsim_io::CsvTable;
     use hopsim_studies::{write_files, ReportFile};
     let dir = tempfile::tempdir().unwrap();
@@ -211,6 +212,7 @@ fn a_failed_file_leaves_none_of_its_set() {
     table.push(vec![1.0.into()]);
     let good = LinePlot::new("good", "x (m)", "y (m)")
         .with_series(Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]));
+    // Two cell centres along x, one along y, but a single value: it cannot be drawn.
     let bad = Heatmap::new(
         "bad",
         "x",
@@ -221,14 +223,36 @@ fn a_failed_file_leaves_none_of_its_set() {
         vec![Some(1.0)],
     );
     let files = [
+        ReportFile::figure("bad", bad),
         ReportFile::csv("table.csv", table),
         ReportFile::figure("good", good),
-        ReportFile::figure("bad", bad),
     ];
-    assert!(write_files(dir.path(), &files).is_err());
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
-    // Without the bad figure the whole set appears.
-    let written = write_files(dir.path(), &files[..2]).unwrap();
-    assert_eq!(written.len(), 3);
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
+    let written = write_files(dir.path(), &files).unwrap();
+    let names = |paths: &[std::path::PathBuf]| -> Vec<String> {
+        (paths.iter())
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect()
+    };
+    assert_eq!(names(&written.files), ["table.csv", "good.png", "good.svg"]);
+    assert_eq!(written.missing_figures.len(), 1);
+    let missing = &written.missing_figures[0];
+    assert_eq!(missing.figure, "bad");
+    assert_eq!(names(&missing.files), ["bad.png", "bad.svg"]);
+    assert!(
+        missing
+            .reason
+            .contains("heatmap needs 2×1 = 2 values, got 1"),
+        "{missing}"
+    );
+    let warning = missing.to_string();
+    assert!(
+        warning.contains("`bad`") && warning.contains("bad.svg"),
+        "{warning}"
+    );
+    let mut on_disk: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    on_disk.sort();
+    assert_eq!(on_disk, ["good.png", "good.svg", "table.csv"]);
 }

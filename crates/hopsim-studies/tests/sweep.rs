@@ -138,7 +138,9 @@ fn rows_follow_the_grid_then_the_baselines_and_failed_runs_keep_their_error() {
 
     let dir = tempfile::tempdir().unwrap();
     let written = hopsim_studies::write_files(dir.path(), &report.files()).unwrap();
+    assert!(written.missing_figures.is_empty());
     let names: Vec<String> = written
+        .files
         .iter()
         .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
