@@ -25,8 +25,12 @@
 //! A new kind of figure implements [`Figure`] (drawing on any plotters backend) and gets
 //! PNG/SVG output from [`write_png_and_svg`] and [`stage_png_and_svg`].
 
+mod axis;
+mod colour;
 mod font;
 
+pub use axis::{three_significant_digits, tick_label, Axis, Scale, MAX_TICKS};
+pub use colour::{blue_white_red, on_white, viridis, ColourScale, RGBColor, BLACK, PALETTE};
 pub use font::Typeset;
 
 use crate::error::{Result, StudyError};
@@ -34,6 +38,7 @@ use hopsim_io::{AtomicPath, IoError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::FontTransform;
 use std::path::{Path, PathBuf};
 
 /// Default figure size in pixels: 8 × 5⅓ inches at 300 dpi.
@@ -147,6 +152,8 @@ pub enum SeriesStyle {
     Points,
     /// Crosses (e.g. to mark special cells on a heatmap).
     Crosses,
+    /// Open circles (e.g. to mark other special cells, beside crosses).
+    Rings,
     /// A polyline with dots.
     LineAndPoints,
 }
@@ -225,51 +232,6 @@ impl Series {
         self.label = None;
         self
     }
-}
-
-pub use plotters::style::RGBColor;
-
-/// Black, for reference lines.
-pub const BLACK: RGBColor = RGBColor(0, 0, 0);
-
-/// Qualitative palette (Tableau 10).
-pub const PALETTE: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
-
-/// Viridis colour map at `t ∈ [0, 1]` (piecewise-linear through 9 samples).
-pub fn viridis(t: f64) -> RGBColor {
-    const STOPS: [(u8, u8, u8); 9] = [
-        (68, 1, 84),
-        (71, 44, 122),
-        (59, 81, 139),
-        (44, 113, 142),
-        (33, 144, 141),
-        (39, 173, 129),
-        (92, 200, 99),
-        (170, 220, 50),
-        (253, 231, 37),
-    ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let pos = t * (STOPS.len() - 1) as f64;
-    let i = (pos.floor() as usize).min(STOPS.len() - 2);
-    let f = pos - i as f64;
-    let lerp = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    RGBColor(lerp(a.0, b.0), lerp(a.1, b.1), lerp(a.2, b.2))
 }
 
 fn finite_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
@@ -363,77 +325,6 @@ fn auto_y_range(series: &[Series]) -> Option<(f64, f64)> {
     })
 }
 
-/// A tick label for `value` on an axis whose ticks are about `step` apart: as many
-/// decimals as the step needs, without trailing zeros (`10`, `0.25`), never `-0`.
-pub fn tick_label(value: f64, step: f64) -> String {
-    if !value.is_finite() {
-        return format!("{value}");
-    }
-    let step = if step.is_finite() && step > 0.0 {
-        step
-    } else {
-        value.abs().max(1.0)
-    };
-    // Two more decimals than the step's leading digit, so that steps of 0.25 or 0.025
-    // print exactly; trailing zeros are dropped below.
-    let decimals = (2 - step.log10().floor() as i32).clamp(0, 15) as usize;
-    let magnitude = value.abs();
-    let text = if magnitude >= 1e6 || (magnitude > 0.0 && magnitude < 1e-4 && step < 1e-4) {
-        // Scientific notation, three significant digits.
-        let text = format!("{value:.2e}");
-        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
-        let mantissa = trim_zeros(mantissa);
-        format!("{mantissa}e{exponent}")
-    } else {
-        trim_zeros(&format!("{value:.decimals$}"))
-    };
-    match text.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
-        _ => text,
-    }
-}
-
-/// `text` (a decimal number) without trailing zeros after the point, nor a bare point.
-fn trim_zeros(text: &str) -> String {
-    match text.contains('.') {
-        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
-        false => text.to_string(),
-    }
-}
-
-/// `x` with three significant digits, without trailing zeros (axis labels, notes).
-pub fn three_significant_digits(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return tick_label(x, 1.0);
-    }
-    let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
-    if x.abs() >= 1e6 || x.abs() < 1e-4 {
-        return tick_label(x, x.abs() * 1e-3);
-    }
-    tick_label(
-        format!("{x:.decimals$}").parse().unwrap_or(x),
-        10f64.powi(-(decimals as i32)),
-    )
-}
-
-/// Ticks plotters draws on an axis (its default label count).
-const TICKS: f64 = 10.0;
-
-/// The approximate distance between the ticks plotters chooses on `range`.
-fn tick_step((lo, hi): (f64, f64)) -> f64 {
-    let raw = (hi - lo).abs() / TICKS;
-    if !(raw > 0.0 && raw.is_finite()) {
-        return 1.0;
-    }
-    // plotters steps by 1, 2 or 5 × 10^k, at least the raw step.
-    let k = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * k)
-        .find(|s| *s >= raw * (1.0 - 1e-9))
-        .unwrap_or(10.0 * k)
-}
-
 /// The text style of `size` design units in the embedded font.
 fn text_style(size: f64) -> TextStyle<'static> {
     TextStyle::from((font::FAMILY, px(size) as f64).into_font())
@@ -521,54 +412,46 @@ fn draw_title<DB: DrawingBackend>(
     Ok(area.split_vertically(height).1)
 }
 
-/// A chart with linear `f64` axes, as every figure here draws.
-type Chart<'a, DB> = ChartContext<
-    'a,
-    DB,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
+/// A chart on two [`Axis`], as every figure here draws.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
 
 /// The chart of a figure on `area` (below its title), with room for the axis labels.
 fn chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
-    x_range: (f64, f64),
-    y_range: (f64, f64),
+    x: Axis,
+    y: Axis,
 ) -> std::result::Result<Chart<'a, DB>, String> {
     ChartBuilder::on(area)
         .margin(upx(12.0))
         .margin_right(upx(28.0))
         .x_label_area_size(upx(50.0))
         .y_label_area_size(upx(78.0))
-        .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
+        .build_cartesian_2d(x, y)
         .map_err(|e| e.to_string())
 }
 
-/// Draws the axes with their labels (shrunk to fit the axis if long) and clean tick
-/// labels; `grid` adds light grid lines (maps cover them); `log_x`: the chart's x coordinate
-/// is `log10 x`, labelled with `x`.
+/// The axes of `chart`.
+fn axes<DB: DrawingBackend>(chart: &Chart<'_, DB>) -> (Axis, Axis) {
+    let spec = chart.as_coord_spec();
+    (*spec.x_spec(), *spec.y_spec())
+}
+
+/// Draws the axes with their labels (shrunk to fit the axis if long) and their ticks
+/// ([`Axis::label`]); `grid` adds light grid lines (maps cover them).
 fn draw_axes<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     x_label: &str,
     y_label: &str,
     grid: bool,
-    log_x: bool,
 ) -> DrawResult {
-    let (x_range, y_range) = {
-        let spec = chart.as_coord_spec();
-        let (x, y) = (spec.x_spec().range(), spec.y_spec().range());
-        ((x.start, x.end), (y.start, y.end))
-    };
-    let (x_step, y_step) = (tick_step(x_range), tick_step(y_range));
+    let (x_axis, y_axis) = axes(chart);
     let area = chart.plotting_area().strip_coord_spec();
     let (w, h) = area.dim_in_pixel();
     let axis_size =
         |label: &str, room: u32| fitting_size(&area, &[label.to_string()], AXIS_FONT, room as i32);
     let (x_size, y_size) = (axis_size(x_label, w), axis_size(y_label, h));
-    let x_format = |v: &f64| match log_x {
-        true => three_significant_digits(10f64.powf(*v)),
-        false => tick_label(*v, x_step),
-    };
-    let y_format = |v: &f64| tick_label(*v, y_step);
+    let x_format = |v: &f64| x_axis.label(*v);
+    let y_format = |v: &f64| y_axis.label(*v);
     let mut mesh = chart.configure_mesh();
     if grid {
         mesh.light_line_style(RGBColor(235, 235, 235))
@@ -596,6 +479,7 @@ enum Marker {
     Dot,
     LineAndDot,
     Cross,
+    Ring,
     /// Off-scale points: a triangle at the plot's edge, pointing out of it.
     Triangle,
     /// A map's cell.
@@ -608,6 +492,7 @@ impl Marker {
             SeriesStyle::Line => Marker::Line,
             SeriesStyle::Points => Marker::Dot,
             SeriesStyle::Crosses => Marker::Cross,
+            SeriesStyle::Rings => Marker::Ring,
             SeriesStyle::LineAndPoints => Marker::LineAndDot,
         }
     }
@@ -619,6 +504,7 @@ fn dot_radius(style: SeriesStyle, size: u32) -> i32 {
     match style {
         SeriesStyle::LineAndPoints => px(size + 1.0),
         SeriesStyle::Crosses => px(size.max(3.0)),
+        SeriesStyle::Rings => px(size.max(3.0) + 2.0),
         _ => px(size),
     }
 }
@@ -639,6 +525,11 @@ fn draw_marker<DB: DrawingBackend>(
         Marker::Dot => area
             .draw(&Circle::new((x, y), radius, color.filled()))
             .map_err(e),
+        Marker::Ring => {
+            // A thin line, so that a cross fits inside the ring.
+            let thin = color.stroke_width(upx(1.2));
+            area.draw(&Circle::new((x, y), radius, thin)).map_err(e)
+        }
         Marker::Cross => {
             let r = radius;
             area.draw(&PathElement::new(
@@ -866,6 +757,97 @@ fn draw_outside_legend<DB: DrawingBackend>(
     draw_legend_box(area, entries, layout, origin)
 }
 
+/// A legend in rows under a map or a title: the entries of each row, left to right, as
+/// many per row as fit `width` pixels, and the pixel widths of the entries.
+struct LegendRows {
+    rows: Vec<Vec<usize>>,
+    widths: Vec<i32>,
+    row_height: i32,
+}
+
+/// Gap between the entries of a legend row, and the width of an entry's symbol, in design
+/// units.
+const ROW_GAP: f64 = 28.0;
+const ROW_SYMBOL: f64 = 34.0;
+
+impl LegendRows {
+    fn new<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[LegendEntry]) -> Self {
+        let style = text_style(LEGEND_FONT);
+        let widths: Vec<i32> = (entries.iter())
+            .map(|e| px(ROW_SYMBOL + 4.0) + text_size(area, &e.label, &style).0)
+            .collect();
+        let (w, _) = area.dim_in_pixel();
+        let mut rows: Vec<Vec<usize>> = Vec::new();
+        let mut used = 0;
+        for (i, &width) in widths.iter().enumerate() {
+            match rows.last_mut() {
+                Some(row) if used + px(ROW_GAP) + width <= w as i32 => {
+                    row.push(i);
+                    used += px(ROW_GAP) + width;
+                }
+                _ => {
+                    rows.push(vec![i]);
+                    used = width;
+                }
+            }
+        }
+        let row_height = (text_size(area, "Ag", &style).1 as f64 * 1.35).ceil() as i32;
+        LegendRows {
+            rows,
+            widths,
+            row_height,
+        }
+    }
+
+    /// The height of the legend in pixels, with a margin above and below.
+    fn height(&self) -> i32 {
+        self.rows.len() as i32 * self.row_height + px(12.0)
+    }
+}
+
+/// The height in pixels of the legend rows of `entries` in the width of `area`.
+fn legend_row_height<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+) -> i32 {
+    LegendRows::new(area, entries).height()
+}
+
+/// Draws `entries` side by side in rows, each centred in `area` (a legend under a map or a
+/// title).
+fn draw_legend_row<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+) -> DrawResult {
+    let layout = LegendRows::new(area, entries);
+    let style = text_style(LEGEND_FONT).pos(Pos::new(HPos::Left, VPos::Center));
+    let (w, _) = area.dim_in_pixel();
+    let symbol = px(ROW_SYMBOL);
+    for (r, row) in layout.rows.iter().enumerate() {
+        let total: i32 = row.iter().map(|&i| layout.widths[i]).sum::<i32>()
+            + px(ROW_GAP) * (row.len() as i32 - 1);
+        let mut x = ((w as i32 - total) / 2).max(0);
+        let y = px(6.0) + layout.row_height * r as i32 + layout.row_height / 2;
+        for &i in row {
+            let entry = &entries[i];
+            let (radius, line) = (entry.radius, entry.width);
+            draw_marker(
+                area,
+                entry.marker,
+                (x + symbol / 2, y),
+                radius,
+                line,
+                entry.color,
+                true,
+            )?;
+            area.draw_text(&entry.label, &style, (x + symbol + px(4.0), y))
+                .map_err(|e| e.to_string())?;
+            x += layout.widths[i] + px(ROW_GAP);
+        }
+    }
+    Ok(())
+}
+
 /// Pixels (relative to the plotting area) that the data of `series` cover: every point
 /// (off-scale ones at the edge of `y_range`), and points along the lines every few pixels.
 fn data_pixels<DB: DrawingBackend>(
@@ -967,7 +949,10 @@ fn draw_series<DB: DrawingBackend>(
                 color,
                 y > y_range.1,
             )?;
-        } else if matches!(marker, Marker::Dot | Marker::LineAndDot | Marker::Cross) {
+        } else if matches!(
+            marker,
+            Marker::Dot | Marker::LineAndDot | Marker::Cross | Marker::Ring
+        ) {
             let marker = if marker == Marker::LineAndDot {
                 Marker::Dot
             } else {
@@ -982,14 +967,15 @@ fn draw_series<DB: DrawingBackend>(
 /// Grey of the off-scale note.
 const OFF_SCALE_COLOR: RGBColor = RGBColor(90, 90, 90);
 
-/// The legend entry for the finite points of `series` outside `y_range` (None if none is):
-/// how many and their values.
-fn off_scale_entry(series: &[Series], y_range: (f64, f64)) -> Option<LegendEntry> {
+/// The legend entry for the finite points of `series` outside the range of `y` (None if
+/// none is): how many and their values.
+fn off_scale_entry(series: &[Series], y: &Axis) -> Option<LegendEntry> {
+    let (lo, hi) = y.bounds();
     let off: Vec<f64> = series
         .iter()
         .flat_map(|s| s.points.iter())
-        .filter(|(x, y)| x.is_finite() && y.is_finite() && (*y < y_range.0 || *y > y_range.1))
-        .map(|p| p.1)
+        .filter(|(px, py)| px.is_finite() && py.is_finite() && (*py < lo || *py > hi))
+        .map(|p| y.scale().to_value(p.1))
         .collect();
     let (lo, hi) = finite_range(off.iter().copied())?;
     let values = match lo == hi {
@@ -1010,23 +996,72 @@ fn off_scale_entry(series: &[Series], y_range: (f64, f64)) -> Option<LegendEntry
     })
 }
 
-/// Draws a chart of `series` (colours `colors`) with axes and the legend `entries` on
-/// `body`: the legend inside the plotting area where it covers no data, else beside it.
+/// A shaded stretch of the x axis behind the data (e.g. the flight phase of a cycle).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    /// Legend entry (None: not in the legend).
+    pub label: Option<String>,
+    /// Its ends, in x.
+    pub from: f64,
+    pub to: f64,
+    /// Its colour, drawn translucent.
+    pub color: RGBColor,
+    /// Its opacity.
+    pub opacity: f64,
+}
+
+/// Default opacity of a [`Band`], and of its legend entry.
+const BAND_OPACITY: f64 = 0.15;
+
+impl Band {
+    /// A band from `from` to `to` in `color`, [`BAND_OPACITY`] opaque.
+    pub fn new(label: impl Into<String>, from: f64, to: f64, color: RGBColor) -> Self {
+        Band {
+            label: Some(label.into()),
+            from,
+            to,
+            color,
+            opacity: BAND_OPACITY,
+        }
+    }
+
+    /// Sets the opacity (e.g. lower for bands that overlap).
+    pub fn opacity(mut self, opacity: f64) -> Self {
+        self.opacity = opacity;
+        self
+    }
+}
+
+/// Draws `bands` (in chart coordinates) over the whole height of `chart`.
+fn draw_bands<DB: DrawingBackend>(chart: &mut Chart<'_, DB>, bands: &[Band]) -> DrawResult {
+    let (lo, hi) = axes(chart).1.bounds();
+    let rects = (bands.iter())
+        .map(|b| Rectangle::new([(b.from, lo), (b.to, hi)], b.color.mix(b.opacity).filled()));
+    chart
+        .draw_series(rects)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+/// Draws a chart of `series` (colours `colors`) over `bands`, with axes and the legend
+/// `entries`, on `body`: the legend inside the plotting area where it covers no data, else
+/// beside it.
 #[allow(clippy::too_many_arguments)]
 fn draw_line_chart<DB: DrawingBackend>(
     body: &DrawingArea<DB, Shift>,
-    (x_label, y_label, log_x): (&str, &str, bool),
+    (x_label, y_label): (&str, &str),
     series: &[Series],
     colors: &[RGBColor],
-    x_range: (f64, f64),
-    y_range: (f64, f64),
+    bands: &[Band],
+    (x, y): (Axis, Axis),
     entries: &[LegendEntry],
 ) -> DrawResult {
     let layout = legend_layout(body, entries);
+    let y_range = y.bounds();
     let place = match entries.is_empty() {
         true => None,
         false => {
-            let trial = chart(body, x_range, y_range)?;
+            let trial = chart(body, x, y)?;
             let (w, h) = trial.plotting_area().dim_in_pixel();
             let pixels = data_pixels(&trial, series, y_range);
             free_legend_place((w as i32, h as i32), layout.size, &pixels)
@@ -1039,8 +1074,9 @@ fn draw_line_chart<DB: DrawingBackend>(
         }
         _ => (body.clone(), None),
     };
-    let mut chart = chart(&chart_area, x_range, y_range)?;
-    draw_axes(&mut chart, x_label, y_label, true, log_x)?;
+    let mut chart = chart(&chart_area, x, y)?;
+    draw_bands(&mut chart, bands)?;
+    draw_axes(&mut chart, x_label, y_label, true)?;
     for (s, color) in series.iter().zip(colors) {
         draw_series(&mut chart, s, *color, y_range)?;
     }
@@ -1065,14 +1101,18 @@ pub struct LinePlot {
     pub y_label: String,
     /// Data.
     pub series: Vec<Series>,
-    /// x range (None: data range with 3 % padding).
+    /// Shaded stretches of x behind the data.
+    pub bands: Vec<Band>,
+    /// x range, in values (None: data range with 3 % padding).
     pub x_range: Option<(f64, f64)>,
-    /// y range (None: data range with 5 % padding).
+    /// y range, in values (None: data range with 5 % padding).
     pub y_range: Option<(f64, f64)>,
     /// Size in pixels.
     pub size: (u32, u32),
-    /// Logarithmic x axis (points with `x ≤ 0` are left out; the x range is in `x`).
-    pub log_x: bool,
+    /// How the x axis maps and ticks (on a logarithmic axis points with `x ≤ 0` are left out).
+    pub x_scale: Scale,
+    /// How the y axis maps and ticks (on a logarithmic axis points with `y ≤ 0` are left out).
+    pub y_scale: Scale,
 }
 
 impl LinePlot {
@@ -1087,22 +1127,36 @@ impl LinePlot {
             x_label: x_label.into(),
             y_label: y_label.into(),
             series: Vec::new(),
+            bands: Vec::new(),
             x_range: None,
             y_range: None,
             size: DEFAULT_SIZE,
-            log_x: false,
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
         }
     }
 
-    /// Makes the x axis logarithmic.
-    pub fn with_log_x(mut self) -> Self {
-        self.log_x = true;
+    /// Sets how the x axis maps and ticks.
+    pub fn with_x_scale(mut self, scale: Scale) -> Self {
+        self.x_scale = scale;
+        self
+    }
+
+    /// Sets how the y axis maps and ticks.
+    pub fn with_y_scale(mut self, scale: Scale) -> Self {
+        self.y_scale = scale;
         self
     }
 
     /// Adds a series.
     pub fn with_series(mut self, series: Series) -> Self {
         self.series.push(series);
+        self
+    }
+
+    /// Adds a shaded band.
+    pub fn with_band(mut self, band: Band) -> Self {
+        self.bands.push(band);
         self
     }
 
@@ -1117,6 +1171,92 @@ impl LinePlot {
         self.y_range = Some((lo, hi));
         self
     }
+
+    /// The series in chart coordinates: points outside a logarithmic x axis left out,
+    /// outside a logarithmic y axis non-finite (a break in a line).
+    fn chart_series(&self) -> Vec<Series> {
+        let (sx, sy) = (self.x_scale, self.y_scale);
+        (self.series.iter())
+            .map(|s| Series {
+                points: (s.points.iter())
+                    .filter(|p| sx != Scale::Log || p.0 > 0.0)
+                    .map(|&(x, y)| (sx.to_chart(x), sy.to_chart(y)))
+                    .collect(),
+                ..s.clone()
+            })
+            .collect()
+    }
+
+    /// The axes of the chart of `series` (chart coordinates).
+    fn axes(&self, series: &[Series]) -> (Axis, Axis) {
+        let to_chart =
+            |scale: Scale, (lo, hi): (f64, f64)| (scale.to_chart(lo), scale.to_chart(hi));
+        let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+        let x_range = match self.x_range {
+            Some(range) => to_chart(self.x_scale, range),
+            None => padded(finite_range(xs), 0.03),
+        };
+        let y_range = match self.y_range {
+            Some(range) => to_chart(self.y_scale, range),
+            None => padded(auto_y_range(series), 0.05),
+        };
+        (
+            Axis::new(x_range, self.x_scale),
+            Axis::new(y_range, self.y_scale),
+        )
+    }
+}
+
+impl LinePlot {
+    /// The legend entries of the bands and series (in chart coordinates, on the axis `y`)
+    /// and of the points off its scale.
+    fn legend_entries(&self, series: &[Series], colors: &[RGBColor], y: &Axis) -> Vec<LegendEntry> {
+        let mut entries: Vec<LegendEntry> = (series.iter().zip(colors))
+            .filter_map(|(s, c)| LegendEntry::of(s, *c))
+            .collect();
+        entries.extend(self.bands.iter().filter_map(|b| {
+            let label = b.label.as_deref()?;
+            Some(LegendEntry::square(label, on_white(b.color, BAND_OPACITY)))
+        }));
+        entries.extend(off_scale_entry(series, y));
+        entries
+    }
+
+    /// Draws the plot on `root`, with its own legend or (`own_legend = false`, a panel of
+    /// a stack with one legend) without.
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        own_legend: bool,
+    ) -> DrawResult {
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let series = self.chart_series();
+        let (x, y) = self.axes(&series);
+        let bands: Vec<Band> = (self.bands.iter())
+            .map(|b| Band {
+                from: self.x_scale.to_chart(b.from),
+                to: self.x_scale.to_chart(b.to),
+                ..b.clone()
+            })
+            .collect();
+        let colors: Vec<RGBColor> = (series.iter().enumerate())
+            .map(|(i, s)| s.color.unwrap_or(PALETTE[i % PALETTE.len()]))
+            .collect();
+        let entries = match own_legend {
+            true => self.legend_entries(&series, &colors, &y),
+            false => Vec::new(),
+        };
+        let body = draw_title(root, &self.title)?;
+        draw_line_chart(
+            &body,
+            (&self.x_label, &self.y_label),
+            &series,
+            &colors,
+            &bands,
+            (x, y),
+            &entries,
+        )
+    }
 }
 
 impl Figure for LinePlot {
@@ -1125,54 +1265,22 @@ impl Figure for LinePlot {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<Typeset<DB>, Shift>) -> DrawResult {
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        // On a logarithmic axis the chart's coordinate is log10 x.
-        let to_chart = |x: f64| if self.log_x { x.log10() } else { x };
-        let series: Vec<Series> = self
-            .series
-            .iter()
-            .map(|s| Series {
-                points: (s.points.iter())
-                    .filter(|p| !self.log_x || p.0 > 0.0)
-                    .map(|&(x, y)| (to_chart(x), y))
-                    .collect(),
-                ..s.clone()
-            })
-            .collect();
-        let all = || series.iter().flat_map(|s| s.points.iter());
-        let x_range = match self.x_range {
-            Some((lo, hi)) => (to_chart(lo), to_chart(hi)),
-            None => padded(finite_range(all().map(|p| p.0)), 0.03),
-        };
-        let y_range = (self.y_range).unwrap_or_else(|| padded(auto_y_range(&series), 0.05));
-        let colors: Vec<RGBColor> = (series.iter().enumerate())
-            .map(|(i, s)| s.color.unwrap_or(PALETTE[i % PALETTE.len()]))
-            .collect();
-        let mut entries: Vec<LegendEntry> = (series.iter().zip(&colors))
-            .filter_map(|(s, c)| LegendEntry::of(s, *c))
-            .collect();
-        entries.extend(off_scale_entry(&series, y_range));
-        let body = draw_title(root, &self.title)?;
-        draw_line_chart(
-            &body,
-            (&self.x_label, &self.y_label, self.log_x),
-            &series,
-            &colors,
-            x_range,
-            y_range,
-            &entries,
-        )
+        self.draw_on(root, true)
     }
 }
 
 /// Line plots stacked vertically under one title (e.g. `x`, `y` and `φ` of a gait over one
-/// cycle); each panel keeps its own axes, labels and legend.
+/// cycle); each panel keeps its own axes and labels, and its own legend unless the stack
+/// has one legend for all, a row under the title (panels sharing their series, whose
+/// plotting areas then line up).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlotStack {
     /// Caption above all panels.
     pub title: String,
     /// The panels, top to bottom.
     pub panels: Vec<LinePlot>,
+    /// One legend for all panels: every distinct entry of theirs, under the title.
+    pub shared_legend: bool,
     /// Size in pixels.
     pub size: (u32, u32),
 }
@@ -1184,8 +1292,33 @@ impl PlotStack {
         PlotStack {
             title: title.into(),
             panels,
+            shared_legend: false,
             size: (DEFAULT_SIZE.0, height),
         }
+    }
+
+    /// One legend for all panels.
+    pub fn with_shared_legend(mut self) -> Self {
+        self.shared_legend = true;
+        self
+    }
+
+    /// The distinct legend entries of all panels, in order.
+    fn shared_entries(&self) -> Vec<LegendEntry> {
+        let mut entries: Vec<LegendEntry> = Vec::new();
+        for panel in &self.panels {
+            let series = panel.chart_series();
+            let (_, y) = panel.axes(&series);
+            let colors: Vec<RGBColor> = (series.iter().enumerate())
+                .map(|(i, s)| s.color.unwrap_or(PALETTE[i % PALETTE.len()]))
+                .collect();
+            for entry in panel.legend_entries(&series, &colors, &y) {
+                if !entries.iter().any(|e| e.label == entry.label) {
+                    entries.push(entry);
+                }
+            }
+        }
+        entries
     }
 }
 
@@ -1199,10 +1332,19 @@ impl Figure for PlotStack {
             return Err("a plot stack needs at least one panel".into());
         }
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let body = draw_title(root, &self.title)?;
+        let mut body = draw_title(root, &self.title)?;
+        let entries = match self.shared_legend {
+            true => self.shared_entries(),
+            false => Vec::new(),
+        };
+        if !entries.is_empty() {
+            let (row, rest) = body.split_vertically(legend_row_height(&body, &entries));
+            draw_legend_row(&row, &entries)?;
+            body = rest;
+        }
         let areas = body.split_evenly((self.panels.len(), 1));
         for (panel, area) in self.panels.iter().zip(&areas) {
-            panel.draw(area)?;
+            panel.draw_on(area, !self.shared_legend)?;
         }
         Ok(())
     }
@@ -1274,6 +1416,9 @@ impl CellGrid {
 }
 
 /// A heatmap of values on a rectilinear grid; `None` (or non-finite) cells stay blank.
+/// Its colour bar marks values beyond the colour range (`≥ hi` at the top, `≤ lo` at the
+/// bottom, with a triangle in the end colour) and, on a diverging scale, its centre; the
+/// overlays' legend is a row under the map.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Heatmap {
     /// Caption.
@@ -1292,6 +1437,8 @@ pub struct Heatmap {
     pub values: Vec<Option<f64>>,
     /// Colour range (None: range of the values).
     pub value_range: Option<(f64, f64)>,
+    /// How values become colours.
+    pub colour_scale: ColourScale,
     /// Series drawn on top (lines, markers for special cells).
     pub overlays: Vec<Series>,
     /// Size in pixels.
@@ -1318,6 +1465,7 @@ impl Heatmap {
             y,
             values,
             value_range: None,
+            colour_scale: ColourScale::Sequential,
             overlays: Vec::new(),
             size: DEFAULT_SIZE,
         }
@@ -1334,6 +1482,142 @@ impl Heatmap {
         self.value_range = Some((lo, hi));
         self
     }
+
+    /// Sets how values become colours.
+    pub fn with_colour_scale(mut self, scale: ColourScale) -> Self {
+        self.colour_scale = scale;
+        self
+    }
+
+    fn finite_values(&self) -> impl Iterator<Item = f64> + Clone + '_ {
+        self.values
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|v| v.is_finite())
+    }
+
+    /// The colour range: the fixed one, else the values' (`0 … 1` without values), reaching
+    /// the centre of a diverging scale.
+    pub fn colour_range(&self) -> (f64, f64) {
+        let range = (self.value_range)
+            .or_else(|| finite_range(self.finite_values()))
+            .unwrap_or((0.0, 1.0));
+        let (lo, hi) = self.colour_scale.range(range);
+        match hi > lo {
+            true => (lo, hi),
+            false => (lo - 0.5, hi + 0.5),
+        }
+    }
+
+    /// The colour bar's ticks and labels, bottom to top: evenly stepped values, the centre
+    /// of a diverging scale, and `≤ lo` / `≥ hi` at an end that some value lies beyond.
+    pub fn colour_bar_labels(&self) -> Vec<(f64, String)> {
+        let (lo, hi) = self.colour_range();
+        let axis = Axis::new((lo, hi), Scale::Linear);
+        let mut marks = Vec::new();
+        if let ColourScale::Diverging { centre } = self.colour_scale {
+            marks.push((centre, axis.label(centre)));
+        }
+        if self.finite_values().any(|v| v < lo) {
+            marks.push((lo, format!("≤ {}", three_significant_digits(lo))));
+        }
+        if self.finite_values().any(|v| v > hi) {
+            marks.push((hi, format!("≥ {}", three_significant_digits(hi))));
+        }
+        let clear = |t: f64| marks.iter().all(|(m, _)| (t - m).abs() > 0.06 * (hi - lo));
+        let mut labels: Vec<(f64, String)> = (axis.ticks(MAX_TICKS).into_iter())
+            .filter(|&t| clear(t))
+            .map(|t| (t, axis.label(t)))
+            .collect();
+        labels.extend(marks);
+        labels.sort_by(|a, b| a.0.total_cmp(&b.0));
+        labels
+    }
+}
+
+/// Strips of colour a colour bar is drawn with.
+const COLOUR_BAR_STRIPS: i32 = 256;
+
+/// The colour bar: its strip's width and the gaps around it, in design units.
+const BAR_GAP: f64 = 10.0;
+const BAR_WIDTH: f64 = 26.0;
+const BAR_TICK: f64 = 5.0;
+
+/// The width in pixels of a colour bar with tick `labels` and the `label` beside them.
+fn colour_bar_width<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    labels: &[(f64, String)],
+    label: &str,
+) -> i32 {
+    let widest = (labels.iter())
+        .map(|(_, text)| text_size(area, text, &text_style(TICK_FONT)).0)
+        .max()
+        .unwrap_or(0);
+    let label_height = text_size(area, label, &text_style(AXIS_FONT)).1;
+    px(BAR_GAP + BAR_WIDTH + BAR_TICK + 4.0) + widest + px(14.0) + label_height + px(BAR_GAP)
+}
+
+/// Draws a colour bar on `area` between pixel rows `top` and `bottom` (relative to it):
+/// the strip of `scale` over `range`, a triangle at an end labelled `≥`/`≤`, the ticks
+/// `labels` and the rotated `label`.
+fn draw_colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (top, bottom): (i32, i32),
+    (scale, range): (ColourScale, (f64, f64)),
+    labels: &[(f64, String)],
+    label: &str,
+) -> DrawResult {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (x0, x1) = (px(BAR_GAP), px(BAR_GAP + BAR_WIDTH));
+    let (lo, hi) = range;
+    let row = |v: f64| bottom as f64 - (v - lo) / (hi - lo) * (bottom - top) as f64;
+    // At most `COLOUR_BAR_STRIPS` strips (a few pixels each on a print-size figure).
+    let strips = (bottom - top).clamp(1, COLOUR_BAR_STRIPS);
+    let edge = |i: i32| bottom - ((bottom - top) as f64 * i as f64 / strips as f64).round() as i32;
+    for i in 0..strips {
+        let v = lo + (hi - lo) * (i as f64 + 0.5) / strips as f64;
+        let fill = scale.colour(v, range).filled();
+        area.draw(&Rectangle::new([(x0, edge(i + 1)), (x1, edge(i))], fill))
+            .map_err(e)?;
+    }
+    area.draw(&Rectangle::new(
+        [(x0, top), (x1, bottom)],
+        BLACK.stroke_width(upx(1.0)),
+    ))
+    .map_err(e)?;
+    // A triangle beyond each end that values pass, in the end's colour.
+    let (half, tip) = ((x1 - x0) / 2, px(14.0));
+    for (text, (edge, out, value)) in [("≥", (top, -1, hi)), ("≤", (bottom, 1, lo))] {
+        if labels.iter().any(|(_, l)| l.starts_with(text)) {
+            let points = vec![(x0, edge), (x1, edge), (x0 + half, edge + out * tip)];
+            area.draw(&Polygon::new(
+                points.clone(),
+                scale.colour(value, range).filled(),
+            ))
+            .map_err(e)?;
+            let outline: Vec<(i32, i32)> = points.iter().chain(&points[..1]).copied().collect();
+            area.draw(&PathElement::new(outline, BLACK.stroke_width(upx(1.0))))
+                .map_err(e)?;
+        }
+    }
+    let style = text_style(TICK_FONT).pos(Pos::new(HPos::Left, VPos::Center));
+    let mut widest = 0;
+    for (value, text) in labels {
+        let y = row(*value).round() as i32;
+        let tick = vec![(x1, y), (x1 + px(BAR_TICK), y)];
+        area.draw(&PathElement::new(tick, BLACK.stroke_width(upx(1.0))))
+            .map_err(e)?;
+        area.draw_text(text, &style, (x1 + px(BAR_TICK + 4.0), y))
+            .map_err(e)?;
+        widest = widest.max(text_size(area, text, &style).0);
+    }
+    let rotated = text_style(AXIS_FONT)
+        .pos(Pos::new(HPos::Center, VPos::Top))
+        .transform(FontTransform::Rotate270);
+    let x = x1 + px(BAR_TICK + 4.0) + widest + px(14.0);
+    area.draw_text(label, &rotated, (x, (top + bottom) / 2))
+        .map_err(e)
 }
 
 impl Figure for Heatmap {
@@ -1350,79 +1634,54 @@ impl Figure for Heatmap {
         let entries: Vec<LegendEntry> = (self.overlays.iter().zip(&colors))
             .filter_map(|(s, c)| LegendEntry::of(s, *c))
             .collect();
-        // The legend beside the map (inside, it would hide cells).
-        let layout = legend_layout(&body, &entries);
+        // The overlays' legend in a row under the map (inside, it would hide cells).
         let (body, legend) = match entries.is_empty() {
             true => (body, None),
             false => {
-                let (chart_area, legend_area, spot) = split_for_legend(&body, &layout);
-                (chart_area, Some((legend_area, spot)))
+                let (_, h) = body.dim_in_pixel();
+                let height = legend_row_height(&body, &entries);
+                let (map, row) = body.split_vertically(h as i32 - height);
+                (map, Some(row))
             }
         };
+        let labels = self.colour_bar_labels();
         let (w, _) = body.dim_in_pixel();
-        let (main, bar) = body.split_horizontally(w as i32 - px(130.0));
+        let bar_width = colour_bar_width(&body, &labels, &self.value_label);
+        let (main, bar) = body.split_horizontally(w as i32 - bar_width);
         let grid = CellGrid::new(&self.x, &self.y);
-        let value = |v: &Option<f64>| v.filter(|v| v.is_finite());
-        let (lo, hi) = self
-            .value_range
-            .or_else(|| finite_range(self.values.iter().filter_map(value)))
-            .unwrap_or((0.0, 1.0));
-        let span = if hi > lo { hi - lo } else { 1.0 };
+        let range = self.colour_range();
         let (x_range, y_range) = grid.ranges();
-        let mut chart = chart(&main, x_range, y_range)?;
-        draw_axes(&mut chart, &self.x_label, &self.y_label, false, false)?;
+        let axes = (
+            Axis::new(x_range, Scale::Linear),
+            Axis::new(y_range, Scale::Linear),
+        );
+        let mut chart = chart(&main, axes.0, axes.1)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, false)?;
+        let value = |v: &Option<f64>| v.filter(|v| v.is_finite());
         let cells = grid.cells().filter_map(|(k, rect)| {
-            value(&self.values[k]).map(|v| Rectangle::new(rect, viridis((v - lo) / span).filled()))
+            let v = value(&self.values[k])?;
+            Some(Rectangle::new(
+                rect,
+                self.colour_scale.colour(v, range).filled(),
+            ))
         });
         chart.draw_series(cells).map_err(|e| e.to_string())?;
         for (series, color) in self.overlays.iter().zip(&colors) {
             draw_series(&mut chart, series, *color, y_range)?;
         }
-        if let Some((area, spot)) = legend {
-            draw_outside_legend(&area, &entries, &layout, spot)?;
+        if let Some(row) = legend {
+            draw_legend_row(&row, &entries)?;
         }
-        // Colour bar, level with the map.
-        let mut bar_chart = ChartBuilder::on(&bar)
-            .margin_top(upx(12.0))
-            .margin_bottom(upx(12.0 + 50.0))
-            .margin_right(upx(8.0))
-            .y_label_area_size(upx(75.0))
-            .build_cartesian_2d(0.0..1.0, lo..(lo + span))
-            .map_err(|e| e.to_string())?;
-        let bar_step = tick_step((lo, lo + span));
-        let bar_format = |v: &f64| tick_label(*v, bar_step);
-        let (_, bar_h) = bar_chart.plotting_area().dim_in_pixel();
-        let bar_area = bar_chart.plotting_area().strip_coord_spec();
-        let label_size = fitting_size(
-            &bar_area,
-            std::slice::from_ref(&self.value_label),
-            AXIS_FONT - 2.0,
-            bar_h as i32,
-        );
-        bar_chart
-            .configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_label_formatter(&bar_format)
-            .y_desc(&self.value_label)
-            .label_style(text_style(TICK_FONT - 2.0))
-            .axis_desc_style(text_style(label_size))
-            .axis_style(BLACK.stroke_width(upx(1.0)))
-            .set_all_tick_mark_size(upx(5.0))
-            .draw()
-            .map_err(|e| e.to_string())?;
-        let steps = 100;
-        bar_chart
-            .draw_series((0..steps).map(|i| {
-                let a = lo + span * i as f64 / steps as f64;
-                let b = lo + span * (i + 1) as f64 / steps as f64;
-                Rectangle::new(
-                    [(0.0, a), (1.0, b)],
-                    viridis((i as f64 + 0.5) / steps as f64).filled(),
-                )
-            }))
-            .map_err(|e| e.to_string())?;
-        Ok(())
+        // The colour bar, level with the map.
+        let (_, rows) = chart.plotting_area().get_pixel_range();
+        let base = bar.get_base_pixel().1;
+        draw_colour_bar(
+            &bar,
+            (rows.start - base, rows.end - base),
+            (self.colour_scale, range),
+            &labels,
+            &self.value_label,
+        )
     }
 }
 
@@ -1512,8 +1771,12 @@ impl Figure for CategoryMap {
         let layout = legend_layout(&body, &entries);
         let (chart_area, legend_area, spot) = split_for_legend(&body, &layout);
         let (x_range, y_range) = grid.ranges();
-        let mut chart = chart(&chart_area, x_range, y_range)?;
-        draw_axes(&mut chart, &self.x_label, &self.y_label, false, false)?;
+        let axes = (
+            Axis::new(x_range, Scale::Linear),
+            Axis::new(y_range, Scale::Linear),
+        );
+        let mut chart = chart(&chart_area, axes.0, axes.1)?;
+        draw_axes(&mut chart, &self.x_label, &self.y_label, false)?;
         for k in 0..self.categories.len() {
             let c = color(k);
             let rects = grid
@@ -1546,12 +1809,5 @@ mod tests {
         let (edges, up) = sorted_edges(&[3.0, 1.0, 0.0]);
         assert!(!up);
         assert_eq!(cell_rect(&edges, up, 3, 0), (2.0, 4.0));
-    }
-
-    #[test]
-    fn viridis_ends() {
-        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
-        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
-        assert_eq!(viridis(f64::NAN), RGBColor(68, 1, 84));
     }
 }

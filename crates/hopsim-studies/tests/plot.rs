@@ -1,8 +1,8 @@
 //! Plots are written as PNG and SVG, atomically, with rendered text.
 
 use hopsim_studies::plot::{
-    free_legend_place, robust_range, three_significant_digits, tick_label, write_png_and_svg,
-    CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle, Typeset,
+    free_legend_place, robust_range, write_png_and_svg, CategoryMap, ColourScale, Figure, Heatmap,
+    LinePlot, Series, SeriesStyle, Typeset,
 };
 use plotters::prelude::*;
 
@@ -84,18 +84,35 @@ fn long_titles_wrap_inside_the_figure() {
     assert!(runs >= 2, "title rows {rows_with_text:?}");
 }
 
-/// Tick labels: integers without decimals, steps printed exactly, never `-0`.
+/// A heatmap's colour bar says when values lie beyond its colour range (`≥ 2` at the top,
+/// `≤ 0.5` at the bottom) and nothing when none does; a diverging scale ticks its centre.
 #[test]
-fn tick_labels_are_clean() {
-    assert_eq!(tick_label(10.0, 1.0), "10");
-    assert_eq!(tick_label(-0.0, 0.1), "0");
-    assert_eq!(tick_label(-1e-17, 0.1), "0");
-    assert_eq!(tick_label(0.30000000000000004, 0.1), "0.3");
-    assert_eq!(tick_label(0.025, 0.025), "0.025");
-    assert_eq!(tick_label(-2.5, 0.5), "-2.5");
-    assert_eq!(tick_label(1500.0, 500.0), "1500");
-    assert_eq!(three_significant_digits(8.7123), "8.71");
-    assert_eq!(three_significant_digits(-0.0), "0");
+fn colour_bars_mark_values_beyond_their_range() {
+    let map = |values: Vec<Option<f64>>| {
+        Heatmap::new("m", "x", "y", "v", vec![0.0, 1.0], vec![0.0, 1.0], values)
+    };
+    let labels = |h: &Heatmap| -> Vec<String> {
+        h.colour_bar_labels().into_iter().map(|(_, l)| l).collect()
+    };
+    let capped = map(vec![Some(0.6), Some(1.0), Some(1.5), Some(5.0)]).with_value_range(0.6, 2.0);
+    let all = labels(&capped);
+    assert_eq!(all.last().map(String::as_str), Some("≥ 2"), "{all:?}");
+    assert!(all.iter().all(|l| !l.starts_with('≤')), "{all:?}");
+    let below = map(vec![Some(0.1), Some(1.0), Some(1.5), Some(2.0)]).with_value_range(0.5, 2.0);
+    assert_eq!(labels(&below)[0], "≤ 0.5");
+    // Values within the range: plain ticks, every one inside it.
+    let plain = map(vec![Some(0.6), Some(1.0), Some(1.5), Some(2.0)]);
+    let ticks = plain.colour_bar_labels();
+    assert!(ticks
+        .iter()
+        .all(|(v, l)| (0.6..=2.0).contains(v) && !l.contains(['≥', '≤'])));
+    // A diverging scale about 1 reaches 1 and labels it.
+    let diverging = map(vec![Some(0.3), Some(0.45), Some(0.7), Some(0.8)])
+        .with_colour_scale(ColourScale::Diverging { centre: 1.0 });
+    assert_eq!(diverging.colour_range(), (0.3, 1.0));
+    assert!(diverging
+        .colour_bar_labels()
+        .contains(&(1.0, "1".to_string())));
 }
 
 /// One far outlier does not stretch the range; a spread of data does.
