@@ -27,7 +27,7 @@ use crate::plot::{
     on_white, three_significant_digits, Band, LinePlot, PlotStack, Scale, Series, SeriesStyle,
     BLACK, PALETTE,
 };
-use crate::report::{num, Report, ReportFile, Table};
+use crate::report::{num, Report, ReportFile, TextTable};
 use crate::{Result, StudyError};
 use hopsim_analysis::numerics::linspace;
 use hopsim_control::ControllerConfig;
@@ -865,7 +865,7 @@ impl GaitReport {
 impl Report for GaitReport {
     fn text(&self) -> String {
         let s = &self.last;
-        let mut t = Table::new(format!("{} ({})", self.title, self.source));
+        let mut t = TextTable::new(format!("{} ({})", self.title, self.source));
         t.row(
             "cycles",
             format!("{} complete, split {}", self.cycles.len(), self.split),

@@ -179,15 +179,15 @@ pub fn write_files(dir: &Path, files: &[ReportFile]) -> Result<WrittenFiles> {
 
 /// A two-column text table with a title.
 #[derive(Clone, Debug, Default)]
-pub struct Table {
+pub struct TextTable {
     title: String,
     rows: Vec<(String, String)>,
 }
 
-impl Table {
+impl TextTable {
     /// An empty table.
     pub fn new(title: impl Into<String>) -> Self {
-        Table {
+        TextTable {
             title: title.into(),
             rows: Vec::new(),
         }
@@ -200,7 +200,7 @@ impl Table {
     }
 }
 
-impl fmt::Display for Table {
+impl fmt::Display for TextTable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let width = self
             .rows
@@ -272,7 +272,7 @@ mod tests {
 
     #[test]
     fn tables_align_their_keys() {
-        let mut t = Table::new("title");
+        let mut t = TextTable::new("title");
         t.row("a", 1).row("longer", "x");
         assert_eq!(t.to_string(), "title\n  a       1\n  longer  x\n");
     }
