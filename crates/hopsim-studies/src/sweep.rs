@@ -419,7 +419,6 @@ pub struct SweepReport {
     /// The figure plotted against the first axis (scenes without the Robbit controller).
     pub y: String,
     /// The scene's size ([`length_scale`]), against which lengths are round-off.
-    #[serde(rename = "length_scale_m")]
     pub length_scale_m: f64,
     pub runs: Vec<SweepRun>,
     /// Robbit scenes: the figure is speed against impulse per distance with these curves.
