@@ -2,7 +2,8 @@
 //! environment under the cargo target directory, `pip install ./python` (the wheel built
 //! with its own cargo target directory, so that it never waits on this build's lock), the
 //! pytest suite `python/tests` (against this build's `hopsim` binary) and the notebook
-//! `examples/robbit.ipynb` executed with nbclient.
+//! `examples/robbit.ipynb` executed with nbclient, on a machine without system fonts (an
+//! empty fontconfig, a fresh matplotlib cache): matplotlib draws with the fonts it bundles.
 //!
 //! Needs `python3` (≥ 3.9) with `venv` and a reachable package index. Without them the
 //! test is skipped with a notice, unless HOPSIM_REQUIRE_PYTHON=1 (CI), which makes it fail.
@@ -114,8 +115,18 @@ fn python_package_installs_and_passes_its_tests_and_notebook() {
         path = notebook.display().to_string(),
         dir = repo.join("examples").display().to_string(),
     );
+    // No system fonts: an empty fontconfig, and a matplotlib cache built under it.
+    let fontless = tempfile::tempdir().expect("a folder for the fontless configuration");
+    let fontconfig = fontless.path().join("empty-fonts.conf");
+    std::fs::write(
+        &fontconfig,
+        "<?xml version=\"1.0\"?>\n<fontconfig></fontconfig>\n",
+    )
+    .expect("write an empty fontconfig");
     let ran = run(Command::new(&venv_python)
         .args(["-c", &execute])
+        .env("FONTCONFIG_FILE", &fontconfig)
+        .env("MPLCONFIGDIR", fontless.path())
         .current_dir(repo));
     assert_eq!(ran, Some(true), "examples/robbit.ipynb failed to run");
 }

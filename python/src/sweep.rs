@@ -42,7 +42,7 @@ fn params(
     Ok(SweepParams {
         axes,
         baselines: runs,
-        y: "mean_speed_mps".into(),
+        y: Some("mean_speed_mps".into()),
         // The command line's default limit (`hopsim sweep --max-runs`).
         max_runs: DEFAULT_MAX_RUNS,
     })

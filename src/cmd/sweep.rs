@@ -40,9 +40,11 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Quantity plotted against the first grid axis (scenes without the Robbit
-    /// controller; Robbit's plot is mean speed against impulse per distance).
-    #[arg(long, value_name = "FIELD", default_value = "distance_per_hop_m", value_parser = metric_name)]
-    pub y: String,
+    /// controller; Robbit's plot is mean speed against impulse per distance) [default: the
+    /// first of distance_per_hop_m, mean_speed_mps, hops, gait_period, gait_residual that
+    /// varies over the grid]
+    #[arg(long, value_name = "FIELD", value_parser = metric_name)]
+    pub y: Option<String>,
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,

@@ -78,6 +78,7 @@ const KEYS: &[(&str, KeyInfo)] = &[
         info("spring damping c", "N s/m", "N s/m"),
     ),
     ("controller.torque", info("motor torque T", "N m", "N m")),
+    ("controller.force", info("motor force F", "N", "N")),
     (
         "controller.impulse_limit",
         info("impulse limit ζ0", "N m s", "N m s"),
@@ -168,6 +169,7 @@ mod tests {
     #[test]
     fn keys_read_as_words_with_units() {
         assert_eq!(axis_label("controller.torque"), "motor torque T (N m)");
+        assert_eq!(axis_label("controller.force"), "motor force F (N)");
         assert_eq!(
             axis_label("controller.cane_delay"),
             "cane delay CD (fraction of the motor period)"

@@ -354,7 +354,9 @@ impl Report for FixedPointsReport {
                     "fixed_points.csv",
                     files::points_csv(&r.points),
                 )];
-                out.extend(files::grid_maps(&r.angles_rad, &r.energies, &r.points));
+                let friction = r.about.parameters.friction;
+                let maps = files::grid_maps(&r.angles_rad, &r.energies, &r.points, friction);
+                out.extend(maps);
                 out.extend(r.gaits.iter().flat_map(gaits::FixedPointGaits::files));
                 (out, &r.simulation)
             }

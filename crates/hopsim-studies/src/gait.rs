@@ -23,8 +23,11 @@
 //!   at the cycle start (interpolated between the bracketing samples when it falls between
 //!   them).
 
-use crate::plot::{LinePlot, PlotStack, Series, SeriesStyle, BLACK, PALETTE};
-use crate::report::{num, Report, ReportFile, Table};
+use crate::plot::{
+    on_white, three_significant_digits, Band, LinePlot, PlotStack, Scale, Series, SeriesStyle,
+    BLACK, PALETTE,
+};
+use crate::report::{num, Report, ReportFile, TextTable};
 use crate::{Result, StudyError};
 use hopsim_analysis::numerics::linspace;
 use hopsim_control::ControllerConfig;
@@ -390,6 +393,9 @@ pub struct Profiles {
     pub mean_y: Vec<f64>,
     #[serde(rename = "mean_phi_rad")]
     pub mean_phi: Vec<f64>,
+    /// Per cycle, its flight phases as progress intervals (%), for the figure.
+    #[serde(skip)]
+    pub flights: Vec<Vec<(f64, f64)>>,
 }
 
 /// The gait analysis of a run.
@@ -470,7 +476,7 @@ pub fn analyze(trace: &GaitTrace, params: &GaitParams) -> Result<GaitReport> {
         last: CycleStatistics::of(recent),
         section: names,
         periodicity: section.detect(&params.periodicity),
-        profiles: profiles(trace, recent, params.profile_points),
+        profiles: profiles(trace, recent, &flights, params.profile_points),
         cycles,
     })
 }
@@ -613,8 +619,14 @@ fn section(trace: &GaitTrace, starts: &[f64]) -> (PoincareSection, Vec<String>) 
     (section, names)
 }
 
-/// `x − x(start)`, `y`, `φ` of `cycles` at `points` progress values, and their means.
-fn profiles(trace: &GaitTrace, cycles: &[Cycle], points: usize) -> Profiles {
+/// `x − x(start)`, `y`, `φ` of `cycles` at `points` progress values, their means, and the
+/// `flights` within each cycle in progress.
+fn profiles(
+    trace: &GaitTrace,
+    cycles: &[Cycle],
+    flights: &[(f64, f64)],
+    points: usize,
+) -> Profiles {
     let states = &trace.states;
     let progress = linspace(0.0, 1.0, points);
     let mut p = Profiles {
@@ -626,8 +638,17 @@ fn profiles(trace: &GaitTrace, cycles: &[Cycle], points: usize) -> Profiles {
         mean_x: Vec::new(),
         mean_y: Vec::new(),
         mean_phi: Vec::new(),
+        flights: Vec::new(),
     };
     for c in cycles {
+        let end = c.start + c.period;
+        let percent = |t: f64| 100.0 * (t - c.start) / c.period;
+        p.flights.push(
+            (flights.iter())
+                .filter(|&&(a, b)| overlap(c.start, end, a, b) > 0.0)
+                .map(|&(a, b)| (percent(a.max(c.start)), percent(b.min(end))))
+                .collect(),
+        );
         let times: Vec<f64> = progress.iter().map(|s| c.start + s * c.period).collect();
         let x0 = coordinate_at(states, 0, c.start);
         let turns = (coordinate_at(states, 2, c.start) / TAU).round() * TAU;
@@ -645,68 +666,160 @@ fn profiles(trace: &GaitTrace, cycles: &[Cycle], points: usize) -> Profiles {
                 .collect(),
         );
     }
-    let mean = |rows: &[Vec<f64>]| -> Vec<f64> {
-        (0..points)
-            .map(|j| rows.iter().map(|r| r[j]).sum::<f64>() / rows.len() as f64)
-            .collect()
-    };
-    p.mean_x = mean(&p.x);
-    p.mean_y = mean(&p.y);
-    p.mean_phi = mean(&p.phi);
+    let all = |rows: &[Vec<f64>]| mean_profile(&rows.iter().collect::<Vec<_>>());
+    p.mean_x = all(&p.x);
+    p.mean_y = all(&p.y);
+    p.mean_phi = all(&p.phi);
     p
 }
 
+/// The point-by-point mean of `rows` (of equal length; empty without rows).
+fn mean_profile(rows: &[&Vec<f64>]) -> Vec<f64> {
+    let points = rows.first().map_or(0, |r| r.len());
+    (0..points)
+        .map(|j| rows.iter().map(|r| r[j]).sum::<f64>() / rows.len() as f64)
+        .collect()
+}
+
+/// Cycle numbers as `54–61` when consecutive, else `70, 72, 74`.
+fn cycle_list(numbers: &[usize]) -> String {
+    match (numbers.first(), numbers.last()) {
+        (Some(a), Some(b)) if numbers.len() > 2 && b - a + 1 == numbers.len() => format!("{a}–{b}"),
+        _ => (numbers.iter().map(ToString::to_string))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
+}
+
+/// Opacity of the flight shading where every cycle of a kind is in flight.
+const FLIGHT_OPACITY: f64 = 0.15;
+
 impl GaitReport {
-    /// The Fig. 5.11 overlay: one panel each for `x − x(start)`, `y` and `φ`.
-    fn profile_figure(&self) -> PlotStack {
+    /// How many kinds of cycle the overlay groups the last cycles into, by cycle index
+    /// modulo this number: the detected period; without one, the lag whose residual is
+    /// smallest if it is at most half the residual of lag 1 (a gait that alternates
+    /// without closing within the tolerance); else 1.
+    pub fn cycle_kinds(&self) -> usize {
+        if let Some(p) = self.periodicity.period {
+            return p;
+        }
+        let r = &self.periodicity.residuals;
+        let best = (1..=r.len())
+            .filter(|&p| r[p - 1].is_finite())
+            .min_by(|&a, &b| r[a - 1].total_cmp(&r[b - 1]));
+        match best {
+            Some(p) if p > 1 && r[p - 1] <= 0.5 * r[0] => p,
+            _ => 1,
+        }
+    }
+
+    /// The Fig. 5.11 overlay: one panel each for `x − x(start)`, `y` and `φ` against cycle
+    /// progress, the cycles of each kind ([`GaitReport::cycle_kinds`]) thin in its colour
+    /// with their mean bold and their flight phases shaded; no mean for a gait without a
+    /// period (it would stand for no cycle). One legend, one x label.
+    pub fn profile_figure(&self) -> PlotStack {
         let p = &self.profiles;
+        let kinds = self.cycle_kinds();
+        let mean_shown = kinds > 1 || self.periodicity.period.is_some();
+        let members = |kind: usize| -> Vec<usize> {
+            (0..p.cycles.len())
+                .filter(|&k| p.cycles[k] % kinds == kind)
+                .collect()
+        };
+        let name = |kind: usize| match kinds {
+            1 => String::new(),
+            _ => format!("{}: ", char::from(b'A' + (kind % 26) as u8)),
+        };
+        // Thin cycles, their bold mean and their flight shading.
+        let colour = |kind: usize| match kinds {
+            1 => (PALETTE[0], BLACK, PALETTE[0]),
+            _ => {
+                let c = PALETTE[kind % PALETTE.len()];
+                (on_white(c, 0.5), c, c)
+            }
+        };
         let curve = |values: &[f64], color, size| {
             let points = p.progress.iter().copied().zip(values.iter().copied());
-            Series::line("", points.collect())
-                .color(color)
-                .size(size)
-                .unlabelled()
+            Series::line("", points.collect()).color(color).size(size)
         };
-        let panel = |label: &str, rows: &[Vec<f64>], mean: &[f64]| {
-            let plot = LinePlot::new("", "cycle progress (%)", label).with_x_range(0.0, 100.0);
-            rows.iter()
-                .fold(plot, |plot, row| {
-                    plot.with_series(curve(row, PALETTE[0], 1))
-                })
-                .with_series(curve(mean, BLACK, 3))
+        let panel = |label: &str, rows: &[Vec<f64>], last: bool| {
+            let x_label = if last { "cycle progress (%)" } else { "" };
+            let mut plot = LinePlot::new("", x_label, label).with_x_range(0.0, 100.0);
+            for kind in 0..kinds {
+                let cycles = members(kind);
+                let (thin, bold, shade) = colour(kind);
+                let opacity = 1.0 - (1.0 - FLIGHT_OPACITY).powf(1.0 / cycles.len().max(1) as f64);
+                let flight = match kinds {
+                    1 => "flight (shaded; stance unshaded)".to_string(),
+                    _ => format!("{}flight (shaded)", name(kind)),
+                };
+                for (from, to) in cycles.iter().flat_map(|&k| p.flights[k].iter().copied()) {
+                    let band = Band::new(flight.clone(), from, to, shade).opacity(opacity);
+                    plot = plot.with_band(band);
+                }
+                let numbers: Vec<usize> = cycles.iter().map(|&k| p.cycles[k]).collect();
+                let label = format!("{}cycles {}", name(kind), cycle_list(&numbers));
+                let mut thin_label = Some(label.clone());
+                for &k in &cycles {
+                    let mut series = curve(&rows[k], thin, 1).unlabelled();
+                    series.label = thin_label.take().filter(|_| !mean_shown);
+                    plot = plot.with_series(series);
+                }
+                if mean_shown && !cycles.is_empty() {
+                    let mean = mean_profile(&cycles.iter().map(|&k| &rows[k]).collect::<Vec<_>>());
+                    let mut series = curve(&mean, bold, 3);
+                    series.label = Some(format!("{label} (thin) and their mean (bold)"));
+                    plot = plot.with_series(series);
+                }
+            }
+            plot
+        };
+        let grouping = match (kinds, self.periodicity.period) {
+            (1, Some(_)) => "period 1".to_string(),
+            (k, Some(_)) => format!("period {k}, {k} kinds of cycle"),
+            (1, None) => format!("no period ≤ {}, so no mean", self.periodicity.residuals.len()),
+            (k, None) => format!(
+                "{k} kinds of cycle: alternating, though not periodic within the tolerance (r_{k} = {})",
+                three_significant_digits(self.periodicity.residuals[k - 1])
+            ),
         };
         PlotStack::new(
             format!(
-                "{}: the last {} cycles ({}, thin) and their mean (bold)",
+                "{}: the last {} cycles ({}), {grouping}",
                 self.title,
                 p.cycles.len(),
                 self.split.short()
             ),
             vec![
-                panel("x − x(start) (m)", &p.x, &p.mean_x),
-                panel("y (m)", &p.y, &p.mean_y),
-                panel("φ (rad)", &p.phi, &p.mean_phi),
+                panel("x − x(start) (m)", &p.x, false),
+                panel("y (m)", &p.y, false),
+                panel("φ (rad)", &p.phi, true),
             ],
         )
+        .with_shared_legend()
     }
 
     /// Every cycle's distance (and, for cycles between events, its period) against its
-    /// index, and the section residual `r_p` against `p`.
-    fn periodicity_figure(&self) -> PlotStack {
+    /// index, and the section residual `r_p` against the lag `p` on a logarithmic axis
+    /// with the tolerance `r_p = 1`; cycle numbers and lags are ticked at whole numbers.
+    pub fn periodicity_figure(&self) -> PlotStack {
         let per_cycle = |label: &str, unit: &str, value: fn(&Cycle) -> f64| {
             let points = self
                 .cycles
                 .iter()
                 .map(|c| (c.index as f64, value(c)))
                 .collect();
-            LinePlot::new("", "cycle number", format!("{label} ({unit})")).with_series(
-                Series::line("", points)
-                    .style(SeriesStyle::LineAndPoints)
-                    .unlabelled(),
-            )
+            LinePlot::new("", "cycle number", format!("{label} ({unit})"))
+                .with_x_scale(Scale::Integer)
+                .with_series(
+                    Series::line("", points)
+                        .style(SeriesStyle::LineAndPoints)
+                        .unlabelled(),
+                )
         };
         let mut panels = vec![per_cycle("distance per cycle", "m", |c| c.distance)];
         if matches!(self.split, CycleSplit::Event { .. }) {
+            panels[0].x_label.clear();
             panels.push(per_cycle("period", "s", |c| c.period));
         }
         let residuals: Vec<(f64, f64)> = self
@@ -717,16 +830,22 @@ impl GaitReport {
             .map(|(i, &r)| ((i + 1) as f64, r))
             .collect();
         let n = residuals.len() as f64;
-        let top_residual = residuals
-            .iter()
-            .map(|p| p.1)
-            .filter(|r| r.is_finite())
-            .fold(1.0, f64::max);
+        let positive = || (residuals.iter().map(|p| p.1)).filter(|r| r.is_finite() && *r > 0.0);
+        let top = positive().fold(1.0, f64::max);
+        let bottom = positive().fold(1.0, f64::min);
         let bottom = LinePlot::new("", "lag p (cycles)", "residual r_p (1 = tolerance)")
+            .with_x_scale(Scale::Integer)
+            .with_y_scale(Scale::Log)
             .with_x_range(0.5, n + 0.5)
-            .with_y_range(0.0, 1.1 * top_residual)
+            .with_y_range(bottom / 3.0, 3.0 * top)
             .with_series(Series::points("r_p", residuals).color(PALETTE[3]).size(6))
-            .with_series(Series::line("tolerance", vec![(0.5, 1.0), (n + 0.5, 1.0)]).color(BLACK));
+            .with_series(
+                Series::line(
+                    "tolerance (periodic at or below)",
+                    vec![(0.5, 1.0), (n + 0.5, 1.0)],
+                )
+                .color(BLACK),
+            );
         let detected = match self.periodicity.period {
             Some(k) => format!("period {k}"),
             None => format!("no period ≤ {}", self.periodicity.residuals.len()),
@@ -746,7 +865,7 @@ impl GaitReport {
 impl Report for GaitReport {
     fn text(&self) -> String {
         let s = &self.last;
-        let mut t = Table::new(format!("{} ({})", self.title, self.source));
+        let mut t = TextTable::new(format!("{} ({})", self.title, self.source));
         t.row(
             "cycles",
             format!("{} complete, split {}", self.cycles.len(), self.split),

@@ -3,7 +3,7 @@
 //! (as files) the bifurcation diagram over the impulse.
 
 use crate::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
-use crate::report::{num, nums, opt_num, Report, ReportFile, Table};
+use crate::report::{num, nums, opt_num, Report, ReportFile, TextTable};
 use crate::Result;
 use hopsim_analysis::error::require_finite;
 use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel, TakeoffAngleFixedPoint};
@@ -263,7 +263,7 @@ impl Report for ImpulsiveWheelReport {
     fn text(&self) -> String {
         let (w, fp) = (&self.wheel, &self.fixed_point);
         let (lo, hi) = self.stable_impulse_interval;
-        let mut t = Table::new("impulsive wheel return map (docs/physics.md §5.5)");
+        let mut t = TextTable::new("impulsive wheel return map (docs/physics.md §5.5)");
         t.row(
             "m, R, I",
             nums(&[(w.mass, "kg"), (w.radius, "m"), (w.inertia, "kg m²")]),

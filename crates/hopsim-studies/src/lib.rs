@@ -29,4 +29,6 @@ pub mod sweep;
 pub mod template;
 
 pub use error::{Result, StudyError};
-pub use report::{write_files, AnyFigure, Report, ReportFile, Table};
+pub use report::{
+    write_files, AnyFigure, MissingFigure, Report, ReportFile, TextTable, WrittenFiles,
+};

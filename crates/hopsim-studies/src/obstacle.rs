@@ -4,7 +4,7 @@
 
 use crate::plot::{CategoryMap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use crate::progress::Progress;
-use crate::report::{num, nums, Report, ReportFile, Table};
+use crate::report::{num, nums, Report, ReportFile, TextTable};
 use crate::Result;
 use hopsim_analysis::grid::Progress as GridProgress;
 use hopsim_analysis::numerics::{linspace, logspace};
@@ -392,7 +392,7 @@ impl Report for ObstacleReport {
     fn text(&self) -> String {
         let (w, cmp) = (&self.wheel, &self.comparison);
         let unit = cmp.energy_unit_j;
-        let mut t = Table::new("wheel over a wall (docs/physics.md §5.2)");
+        let mut t = TextTable::new("wheel over a wall (docs/physics.md §5.2)");
         t.row(
             "m, R, I",
             nums(&[(w.mass, "kg"), (w.radius, "m"), (w.inertia, "kg m²")]),
@@ -406,7 +406,7 @@ impl Report for ObstacleReport {
             "wall height (h/R)",
             format!("{} ({})", num(cmp.height_m, "m"), num(cmp.height_ratio, "")),
         );
-        let mut c = Table::new("cost [J] (in units of m g R)");
+        let mut c = TextTable::new("cost [J] (in units of m g R)");
         let r = &cmp.rolling;
         c.row(
             "rolling",

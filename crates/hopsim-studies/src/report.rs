@@ -4,7 +4,7 @@
 
 use crate::error::Result;
 use crate::plot::{
-    commit_all, stage_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot, PlotStack,
+    commit_all, figure_paths, stage_png_and_svg, CategoryMap, Figure, Heatmap, LinePlot, PlotStack,
 };
 use hopsim_io::CsvTable;
 use hopsim_io::{AtomicPath, IoError};
@@ -67,7 +67,7 @@ impl Figure for AnyFigure {
 
     fn draw<DB: plotters::prelude::DrawingBackend>(
         &self,
-        root: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+        root: &plotters::prelude::DrawingArea<crate::plot::Typeset<DB>, plotters::coord::Shift>,
     ) -> crate::plot::DrawResult {
         match self {
             AnyFigure::Line(f) => f.draw(root),
@@ -104,40 +104,90 @@ impl ReportFile {
     }
 }
 
-/// Writes `files` into `dir` (created if missing) as one set: every file is first written
-/// completely under a temporary name, and only then are they all renamed into place, so a
-/// failed or interrupted study leaves none of them. Returns the paths written, in order.
-pub fn write_files(dir: &Path, files: &[ReportFile]) -> Result<Vec<PathBuf>> {
+/// A figure [`write_files`] could not draw or write: a warning, never a lost study.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MissingFigure {
+    /// The figure's stem (`sweep`).
+    pub figure: String,
+    /// Its files that were not written (`DIR/sweep.png`, `DIR/sweep.svg`).
+    pub files: Vec<PathBuf>,
+    /// Why.
+    pub reason: String,
+}
+
+impl fmt::Display for MissingFigure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let files: Vec<String> = self.files.iter().map(|p| p.display().to_string()).collect();
+        write!(
+            f,
+            "the figure `{}` could not be drawn, so {} are missing: {}",
+            self.figure,
+            files.join(" and "),
+            self.reason
+        )
+    }
+}
+
+/// What [`write_files`] wrote, and the figures it could not.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct WrittenFiles {
+    /// The files written: the tables, then the figures.
+    pub files: Vec<PathBuf>,
+    /// The figures left out.
+    pub missing_figures: Vec<MissingFigure>,
+}
+
+/// Writes `files` into `dir` (created if missing), tables before figures, every file
+/// atomically (complete under a temporary name, then renamed into place):
+///
+/// 1. the CSV tables, as one set (all renamed into place once all are written), so that
+///    an error writing one (an `Err`) leaves none;
+/// 2. then each figure, its PNG and SVG together; a figure that cannot be drawn or written
+///    leaves both out and is listed in [`WrittenFiles::missing_figures`], never an error:
+///    the tables hold the study's results, the figures only show them.
+pub fn write_files(dir: &Path, files: &[ReportFile]) -> Result<WrittenFiles> {
     hopsim_io::create_dir(dir)?;
-    let mut staged = Vec::new();
+    let mut tables = Vec::new();
     for file in files {
-        match file {
-            ReportFile::Csv { name, table } => {
-                let path = dir.join(name);
-                let output = AtomicPath::create(&path)?;
-                std::fs::write(output.temporary(), table.to_csv_string())
-                    .map_err(|e| IoError::new(&path, e))?;
-                staged.push(output);
-            }
-            ReportFile::Figure { stem, figure } => {
-                staged.extend(stage_png_and_svg(figure, &dir.join(stem))?);
+        if let ReportFile::Csv { name, table } = file {
+            let path = dir.join(name);
+            let output = AtomicPath::create(&path)?;
+            std::fs::write(output.temporary(), table.to_csv_string())
+                .map_err(|e| IoError::new(&path, e))?;
+            tables.push(output);
+        }
+    }
+    let mut written = WrittenFiles {
+        files: commit_all(tables)?,
+        missing_figures: Vec::new(),
+    };
+    for file in files {
+        if let ReportFile::Figure { stem, figure } = file {
+            let stem_path = dir.join(stem);
+            match stage_png_and_svg(figure, &stem_path).and_then(commit_all) {
+                Ok(paths) => written.files.extend(paths),
+                Err(e) => written.missing_figures.push(MissingFigure {
+                    figure: stem.clone(),
+                    files: figure_paths(&stem_path).to_vec(),
+                    reason: e.to_string(),
+                }),
             }
         }
     }
-    commit_all(staged)
+    Ok(written)
 }
 
 /// A two-column text table with a title.
 #[derive(Clone, Debug, Default)]
-pub struct Table {
+pub struct TextTable {
     title: String,
     rows: Vec<(String, String)>,
 }
 
-impl Table {
+impl TextTable {
     /// An empty table.
     pub fn new(title: impl Into<String>) -> Self {
-        Table {
+        TextTable {
             title: title.into(),
             rows: Vec::new(),
         }
@@ -150,7 +200,7 @@ impl Table {
     }
 }
 
-impl fmt::Display for Table {
+impl fmt::Display for TextTable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let width = self
             .rows
@@ -222,7 +272,7 @@ mod tests {
 
     #[test]
     fn tables_align_their_keys() {
-        let mut t = Table::new("title");
+        let mut t = TextTable::new("title");
         t.row("a", 1).row("longer", "x");
         assert_eq!(t.to_string(), "title\n  a       1\n  longer  x\n");
     }

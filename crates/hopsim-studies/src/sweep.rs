@@ -4,103 +4,185 @@
 //! transferred impulse with the cube baselines (docs/physics.md §5.3, Fig. 5.7); for other scenes
 //! one figure against the first grid axis.
 
-use crate::plot::{LinePlot, RGBColor, Series, SeriesStyle, BLACK};
+use crate::plot::{LinePlot, RGBColor, Scale, Series, SeriesStyle, BLACK};
 use crate::progress::Progress;
 use crate::report::{Report, ReportFile};
 use crate::run_summary::{robbit_cube, run_scene, RunReport};
 use hopsim_analysis::cube::Cube;
 use hopsim_control::ControllerConfig;
 use hopsim_io::{Cell, CsvTable};
+use hopsim_model::Shape;
 use hopsim_scene::{axis_label, key_words, value_label, Override, Scene, SceneError};
 use hopsim_sim::{grid_jobs, GridAxis, SweepJob, SweepPoint};
 use serde::Serialize;
 use std::fmt::Write;
 use std::ops::Range;
 
-/// A run-summary figure: its CSV column name, its axis label (words and unit) and how to
-/// read it.
-type Metric = (&'static str, &'static str, fn(&RunReport) -> f64);
+/// What a run-summary figure measures, for its axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// A length (m): round-off below [`ROUND_OFF`] of the scene's size.
+    Length,
+    /// A speed (m/s): round-off below [`ROUND_OFF`] of the scene's size per second.
+    Speed,
+    /// A whole number (hops, events, a period in cycles): ticked at whole numbers.
+    Count,
+    /// Anything else, drawn as it is.
+    Other,
+}
+
+/// A run-summary figure: its CSV column name, its axis label (words and unit), its kind
+/// and how to read it.
+struct Metric {
+    name: &'static str,
+    label: &'static str,
+    kind: Kind,
+    value: fn(&RunReport) -> f64,
+}
+
+const fn metric(
+    name: &'static str,
+    label: &'static str,
+    kind: Kind,
+    value: fn(&RunReport) -> f64,
+) -> Metric {
+    Metric {
+        name,
+        label,
+        kind,
+        value,
+    }
+}
 
 /// The run-summary figures a sweep reports, in CSV column order.
 const METRICS: &[Metric] = &[
-    ("distance_m", "distance (m)", |r| r.summary.distance_m),
-    ("mean_speed_mps", "mean speed (m/s)", |r| {
+    metric("distance_m", "distance (m)", Kind::Length, |r| {
+        r.summary.distance_m
+    }),
+    metric("mean_speed_mps", "mean speed (m/s)", Kind::Speed, |r| {
         r.summary.mean_speed_mps
     }),
-    ("hops", "hops", |r| r.summary.hops as f64),
-    ("distance_per_hop_m", "distance per hop (m)", |r| {
-        r.summary.distance_per_hop_m
-    }),
-    ("impulses_count", "impulses", |r| {
+    metric("hops", "hops", Kind::Count, |r| r.summary.hops as f64),
+    metric(
+        "distance_per_hop_m",
+        "distance per hop (m)",
+        Kind::Length,
+        |r| r.summary.distance_per_hop_m,
+    ),
+    metric("impulses_count", "impulses", Kind::Count, |r| {
         r.summary.impulses.count as f64
     }),
-    ("impulses_total_Nms", "total impulse (N m s)", |r| {
-        r.summary.impulses.total
-    }),
-    (
+    metric(
+        "impulses_total_Nms",
+        "total impulse (N m s)",
+        Kind::Other,
+        |r| r.summary.impulses.total,
+    ),
+    metric(
         "impulse_per_distance_Nms_per_m",
         "impulse per distance (N m s/m)",
+        Kind::Other,
         |r| r.summary.impulse_per_distance,
     ),
-    ("brakes_per_s", "brakes per second (1/s)", |r| {
-        r.robbit.as_ref().map_or(f64::NAN, |b| b.brakes_per_s)
-    }),
-    (
+    metric(
+        "brakes_per_s",
+        "brakes per second (1/s)",
+        Kind::Other,
+        |r| r.robbit.as_ref().map_or(f64::NAN, |b| b.brakes_per_s),
+    ),
+    metric(
         "window_impulse_per_distance_Nms_per_m",
         "impulse per distance in the speed window (N m s/m)",
+        Kind::Other,
         |r| {
             r.robbit
                 .as_ref()
                 .map_or(f64::NAN, |b| b.impulse_per_distance)
         },
     ),
-    ("gait_period", "gait period (cycles)", |r| {
+    metric("gait_period", "gait period (cycles)", Kind::Count, |r| {
         r.gait
             .as_ref()
             .and_then(|g| g.period)
             .map_or(f64::NAN, |p| p as f64)
     }),
-    ("gait_residual", "gait residual (1 = tolerance)", |r| {
-        r.gait.as_ref().map_or(f64::NAN, |g| g.residual())
-    }),
-    ("max_penetration_m", "largest penetration (m)", |r| {
-        r.summary.max_penetration_m
-    }),
-    ("energy_balance_error_J", "energy balance error (J)", |r| {
-        r.summary.energy.max_abs_balance_error
-    }),
-    ("lcp_failures", "contact LCP failures", |r| {
+    metric(
+        "gait_residual",
+        "gait residual (1 = tolerance)",
+        Kind::Other,
+        |r| r.gait.as_ref().map_or(f64::NAN, |g| g.residual()),
+    ),
+    metric(
+        "max_penetration_m",
+        "largest penetration (m)",
+        Kind::Other,
+        |r| r.summary.max_penetration_m,
+    ),
+    metric(
+        "energy_balance_error_J",
+        "energy balance error (J)",
+        Kind::Other,
+        |r| r.summary.energy.max_abs_balance_error,
+    ),
+    metric("lcp_failures", "contact LCP failures", Kind::Count, |r| {
         r.summary.lcp.failures as f64
     }),
-    ("wall_time_s", "wall time (s)", |r| r.summary.wall_time_s),
+    metric("wall_time_s", "wall time (s)", Kind::Other, |r| {
+        r.summary.wall_time_s
+    }),
+];
+
+/// Lengths and speeds below this fraction of the scene's size (per second) are round-off,
+/// drawn as zero: a robot hopping in place travels 1e-13 m, not a distance.
+pub const ROUND_OFF: f64 = 1e-9;
+
+/// The figures a sweep plots by default, in order of preference: the first that varies
+/// over the grid (beyond round-off) is plotted.
+pub const DEFAULT_Y: [&str; 5] = [
+    "distance_per_hop_m",
+    "mean_speed_mps",
+    "hops",
+    "gait_period",
+    "gait_residual",
 ];
 
 /// `name` if it is one of the figures a sweep reports (the CSV columns after `error`).
 pub fn metric_name(name: &str) -> Result<String, String> {
-    METRICS
-        .iter()
-        .any(|(n, _, _)| *n == name)
-        .then(|| name.to_string())
+    find_metric(name)
+        .map(|m| m.name.to_string())
         .ok_or_else(|| {
-            let names: Vec<&str> = METRICS.iter().map(|(n, _, _)| *n).collect();
+            let names: Vec<&str> = METRICS.iter().map(|m| m.name).collect();
             format!("unknown field '{name}'; one of: {}", names.join(", "))
         })
 }
 
-/// The figure `name` of a run (NaN for an unknown name).
-fn metric(name: &str, run: &RunReport) -> f64 {
-    METRICS
-        .iter()
-        .find(|(n, _, _)| *n == name)
-        .map_or(f64::NAN, |(_, _, f)| f(run))
+fn find_metric(name: &str) -> Option<&'static Metric> {
+    METRICS.iter().find(|m| m.name == name)
 }
 
-/// The axis label of the figure `name` (the name itself if unknown).
-fn metric_label(name: &str) -> &str {
-    METRICS
-        .iter()
-        .find(|(n, _, _)| *n == name)
-        .map_or(name, |(_, label, _)| label)
+/// The size of a scene's mechanism: the largest distance of a shape's outline from its
+/// body's centre of mass (1 m for a scene without shapes).
+pub fn length_scale(scene: &Scene) -> f64 {
+    let reach = |shape: &Shape| match shape {
+        Shape::Circle { center, radius } | Shape::Arc { center, radius, .. } => {
+            center.norm() + radius
+        }
+        Shape::Ellipse {
+            center,
+            semi_x,
+            semi_y,
+        } => center.norm() + semi_x.max(*semi_y),
+        Shape::Point { position } => position.norm(),
+        Shape::Polygon { vertices } => vertices.iter().map(|v| v.norm()).fold(0.0, f64::max),
+    };
+    let size = (scene.model.shapes.iter())
+        .map(|s| reach(&s.shape))
+        .fold(0.0, f64::max);
+    if size > 0.0 && size.is_finite() {
+        size
+    } else {
+        1.0
+    }
 }
 
 /// An extra run drawn as a horizontal reference line: `NAME:KEY=VALUE[,KEY=VALUE…]`.
@@ -141,8 +223,9 @@ pub struct SweepParams {
     /// Extra runs, after the grid's.
     pub baselines: Vec<SweepBaseline>,
     /// The figure plotted against the first axis (scenes without the Robbit controller),
-    /// one of the CSV columns ([`metric_name`]).
-    pub y: String,
+    /// one of the CSV columns ([`metric_name`]); `None`: the first of [`DEFAULT_Y`] that
+    /// varies over the grid.
+    pub y: Option<String>,
     /// The most grid points the sweep may run ([`DEFAULT_MAX_RUNS`] unless raised).
     pub max_runs: usize,
 }
@@ -274,16 +357,19 @@ impl<'a> Sweep<'a> {
         );
         drop(tick);
         let robbit = matches!(scene.controller, ControllerConfig::MomentumImpulse(_));
-        SweepReport {
+        let mut report = SweepReport {
             scene: scene.title.clone(),
             axes: self.params.axes,
-            y: self.params.y,
+            y: String::new(),
+            length_scale_m: length_scale(scene),
             runs: points.into_iter().map(SweepRun::from).collect(),
             cube: robbit.then(|| CubeCurves {
                 cube: robbit_cube(scene),
                 restitution: scene.settings.cube_restitution,
             }),
-        }
+        };
+        report.y = (self.params.y).unwrap_or_else(|| report.default_y().to_string());
+        report
     }
 }
 
@@ -332,6 +418,8 @@ pub struct SweepReport {
     pub axes: Vec<GridAxis>,
     /// The figure plotted against the first axis (scenes without the Robbit controller).
     pub y: String,
+    /// The scene's size ([`length_scale`]), against which lengths are round-off.
+    pub length_scale_m: f64,
     pub runs: Vec<SweepRun>,
     /// Robbit scenes: the figure is speed against impulse per distance with these curves.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -339,6 +427,42 @@ pub struct SweepReport {
 }
 
 impl SweepReport {
+    /// The value of the figure `m` in run `r`, round-off drawn as zero ([`ROUND_OFF`]).
+    fn plotted(&self, m: &Metric, r: &RunReport) -> f64 {
+        let v = (m.value)(r);
+        let floor = match m.kind {
+            Kind::Length | Kind::Speed => ROUND_OFF * self.length_scale_m,
+            Kind::Count | Kind::Other => 0.0,
+        };
+        if v.abs() < floor {
+            0.0
+        } else {
+            v
+        }
+    }
+
+    /// The first of [`DEFAULT_Y`] whose plotted values vary over the grid's completed runs,
+    /// else the first that is not zero everywhere, else the first.
+    pub fn default_y(&self) -> &'static str {
+        let values = |name: &str| -> Vec<f64> {
+            let m = find_metric(name).expect("DEFAULT_Y names metrics");
+            (self.runs.iter().filter(|r| !r.values.is_empty()))
+                .filter_map(|r| r.summary.as_ref())
+                .map(|s| self.plotted(m, s))
+                .filter(|v| v.is_finite())
+                .collect()
+        };
+        let varies = |v: &[f64]| v.iter().any(|x| *x != v[0]);
+        (DEFAULT_Y.iter().find(|n| varies(&values(n))))
+            .or_else(|| {
+                DEFAULT_Y
+                    .iter()
+                    .find(|n| values(n).iter().any(|x| *x != 0.0))
+            })
+            .copied()
+            .unwrap_or(DEFAULT_Y[0])
+    }
+
     /// Runs that failed.
     pub fn failed(&self) -> usize {
         self.runs.iter().filter(|r| r.summary.is_none()).count()
@@ -349,7 +473,7 @@ impl SweepReport {
         let mut header: Vec<String> = vec!["label".into()];
         header.extend(self.axes.iter().map(|a| a.key.clone()));
         header.extend(["status".into(), "error".into()]);
-        header.extend(METRICS.iter().map(|(n, _, _)| n.to_string()));
+        header.extend(METRICS.iter().map(|m| m.name.to_string()));
         let mut t = CsvTable::new(&header);
         for r in &self.runs {
             let mut row: Vec<Cell> = vec![r.label.as_str().into()];
@@ -357,7 +481,7 @@ impl SweepReport {
             match (&r.summary, &r.error) {
                 (Some(s), _) => {
                     row.extend([Cell::from("ok"), Cell::Empty]);
-                    row.extend(METRICS.iter().map(|(_, _, f)| Cell::from(f(s))));
+                    row.extend(METRICS.iter().map(|m| Cell::from((m.value)(s))));
                 }
                 (None, e) => {
                     row.extend([
@@ -403,11 +527,13 @@ impl SweepReport {
     }
 
     /// Other scenes: `y` against the first grid axis, one series per value of the second
-    /// axis, baselines as horizontal lines.
+    /// axis, baselines as horizontal lines; round-off drawn as zero, counts on whole
+    /// numbers, the axis in words with the unit of its scene key.
     fn quantity_against_axis(&self) -> LinePlot {
-        let (axes, y) = (&self.axes, self.y.as_str());
-        let x_axis = &axes[0];
-        let y_label = metric_label(y);
+        let x_axis = &self.axes[0];
+        let (y_label, kind) =
+            find_metric(&self.y).map_or((self.y.as_str(), Kind::Other), |m| (m.label, m.kind));
+        let value = |s: &RunReport| find_metric(&self.y).map_or(f64::NAN, |m| self.plotted(m, s));
         // The quantity in words: the label without its unit.
         let y_words = y_label.split(" (").next().unwrap_or(y_label);
         let mut plot = LinePlot::new(
@@ -419,8 +545,11 @@ impl SweepReport {
             axis_label(&x_axis.key),
             y_label,
         );
+        if kind == Kind::Count {
+            plot = plot.with_y_scale(Scale::Integer);
+        }
         let grid: Vec<&SweepRun> = self.runs.iter().filter(|r| !r.values.is_empty()).collect();
-        let series_values: Vec<Option<f64>> = match axes.get(1) {
+        let series_values: Vec<Option<f64>> = match self.axes.get(1) {
             Some(axis) => axis.values.iter().copied().map(Some).collect(),
             None => vec![None],
         };
@@ -428,11 +557,11 @@ impl SweepReport {
             let pts: Vec<(f64, f64)> = grid
                 .iter()
                 .filter(|r| series_value.is_none_or(|v| r.values[1] == v))
-                .filter_map(|r| Some((r.values[0], metric(y, r.summary.as_ref()?))))
+                .filter_map(|r| Some((r.values[0], value(r.summary.as_ref()?))))
                 .filter(|(_, v)| v.is_finite())
                 .collect();
             let label = match series_value {
-                Some(v) => value_label(&axes[1].key, v),
+                Some(v) => value_label(&self.axes[1].key, v),
                 None => y_words.to_string(),
             };
             plot = plot.with_series(Series::line(label, pts).style(SeriesStyle::LineAndPoints));
@@ -445,8 +574,7 @@ impl SweepReport {
             });
         let baselines = self.runs.iter().filter(|r| r.values.is_empty());
         for (r, color) in baselines.zip(BASELINE_COLORS.iter().cycle()) {
-            let value = r.summary.as_ref().map(|s| metric(y, s));
-            if let Some(v) = value.filter(|v| v.is_finite()) {
+            if let Some(v) = r.summary.as_ref().map(value).filter(|v| v.is_finite()) {
                 let line = vec![(x0, v), (x1, v)];
                 let label = format!("baseline: {}", r.label);
                 plot = plot.with_series(Series::line(label, line).color(*color));
@@ -518,7 +646,7 @@ pub(crate) fn speed_against_impulse(
         "transferred angular impulse per distance (N m s/m), log scale",
         "mean speed (m/s)",
     )
-    .with_log_x();
+    .with_x_scale(Scale::Log);
     for s in series {
         plot = plot.with_series(s);
     }

@@ -390,3 +390,86 @@ fn canebot_at_its_motor_period_has_the_run_summary_s_periodicity() {
         }
     }
 }
+
+/// A period-2 gait is drawn as two kinds of cycle, never as one mean that matches neither:
+/// each kind's mean is its own cycles' profile, its flight is shaded where the synthetic
+/// flight is (from 0.02 s after the cycle start, for the flight time), one legend and one x
+/// label serve the panels; the periodicity figure ticks whole lags on a logarithmic
+/// residual axis with the tolerance line at 1.
+#[test]
+fn a_period_2_gait_is_drawn_as_two_kinds_of_cycle() {
+    use hopsim_studies::plot::Scale;
+    let r = analyze(&synthetic([LONG, SHORT], 40), &GaitParams::default()).unwrap();
+    assert_eq!(r.cycle_kinds(), 2);
+    let figure = r.profile_figure();
+    assert!(figure.shared_legend);
+    let x_labels: Vec<&str> = figure.panels.iter().map(|p| p.x_label.as_str()).collect();
+    assert_eq!(x_labels, ["", "", "cycle progress (%)"]);
+    let p = &r.profiles;
+    let rows = [&p.x, &p.y, &p.phi];
+    let overall = [&p.mean_x, &p.mean_y, &p.mean_phi];
+    for (panel, (rows, overall)) in figure.panels.iter().zip(rows.iter().zip(overall)) {
+        let means: Vec<_> = panel.series.iter().filter(|s| s.label.is_some()).collect();
+        assert_eq!(means.len(), 2);
+        for (kind, mean) in means.iter().enumerate() {
+            let label = mean.label.as_deref().unwrap();
+            assert!(
+                label.starts_with(["A: cycles", "B: cycles"][kind]),
+                "{label}"
+            );
+            // A cycle of this kind: the mean is its profile.
+            let k = (0..p.cycles.len())
+                .find(|&k| p.cycles[k] % 2 == kind)
+                .unwrap();
+            for ((_, y), expected) in mean.points.iter().zip(&rows[k]) {
+                assert!(close(*y, *expected, 1e-12), "{label}: {y} vs {expected}");
+            }
+        }
+        // No series is the mean over both kinds.
+        assert!(panel.series.iter().all(|s| {
+            s.points
+                .iter()
+                .zip(overall.iter())
+                .any(|((_, y), m)| !close(*y, *m, 1e-9))
+        }));
+        for (kind, shape) in [LONG, SHORT].iter().enumerate() {
+            let name = format!("{}: flight (shaded)", ["A", "B"][kind]);
+            let bands: Vec<_> = (panel.bands.iter())
+                .filter(|b| b.label.as_deref() == Some(name.as_str()))
+                .collect();
+            assert!(!bands.is_empty(), "{name}");
+            for b in bands {
+                let from = 100.0 * LIFT_OFF / shape.period;
+                let to = 100.0 * (LIFT_OFF + shape.flight) / shape.period;
+                assert!(close(b.from, from, 1e-6) && close(b.to, to, 1e-6), "{b:?}");
+            }
+        }
+    }
+    let periodicity = r.periodicity_figure();
+    let lags = periodicity.panels.last().unwrap();
+    assert_eq!((lags.x_scale, lags.y_scale), (Scale::Integer, Scale::Log));
+    let tolerance = (lags.series.iter())
+        .find(|s| {
+            s.label
+                .as_deref()
+                .is_some_and(|l| l.starts_with("tolerance"))
+        })
+        .unwrap();
+    assert!(tolerance.points.iter().all(|p| p.1 == 1.0));
+    let (lo, hi) = lags.y_range.unwrap();
+    assert!(lo < 1.0 && hi > r.periodicity.residuals[0], "{lo} … {hi}");
+}
+
+/// A period-1 gait is one kind of cycle with its mean.
+#[test]
+fn a_period_1_gait_is_one_kind_with_its_mean() {
+    let r = analyze(&synthetic([LONG, LONG], 30), &GaitParams::default()).unwrap();
+    assert_eq!(r.cycle_kinds(), 1);
+    let figure = r.profile_figure();
+    for panel in &figure.panels {
+        let labels: Vec<&str> = (panel.series.iter())
+            .filter_map(|s| s.label.as_deref())
+            .collect();
+        assert_eq!(labels, ["cycles 21–28 (thin) and their mean (bold)"]);
+    }
+}

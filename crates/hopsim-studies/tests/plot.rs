@@ -1,8 +1,8 @@
 //! Plots are written as PNG and SVG, atomically, with rendered text.
 
 use hopsim_studies::plot::{
-    free_legend_place, robust_range, three_significant_digits, tick_label, write_png_and_svg,
-    CategoryMap, Figure, Heatmap, LinePlot, Series, SeriesStyle,
+    free_legend_place, robust_range, write_png_and_svg, CategoryMap, ColourScale, Figure, Heatmap,
+    LinePlot, Series, SeriesStyle, Typeset,
 };
 use plotters::prelude::*;
 
@@ -11,7 +11,8 @@ fn render<F: Figure>(figure: &F) -> (u32, u32, Vec<u8>) {
     let (w, h) = figure.size();
     let mut buffer = vec![0u8; (w * h * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+        let backend = BitMapBackend::with_buffer(&mut buffer, (w, h));
+        let root = Typeset::raster(backend).into_drawing_area();
         figure.draw(&root).unwrap();
         root.present().unwrap();
     }
@@ -83,18 +84,35 @@ fn long_titles_wrap_inside_the_figure() {
     assert!(runs >= 2, "title rows {rows_with_text:?}");
 }
 
-/// Tick labels: integers without decimals, steps printed exactly, never `-0`.
+/// A heatmap's colour bar says when values lie beyond its colour range (`≥ 2` at the top,
+/// `≤ 0.5` at the bottom) and nothing when none does; a diverging scale ticks its centre.
 #[test]
-fn tick_labels_are_clean() {
-    assert_eq!(tick_label(10.0, 1.0), "10");
-    assert_eq!(tick_label(-0.0, 0.1), "0");
-    assert_eq!(tick_label(-1e-17, 0.1), "0");
-    assert_eq!(tick_label(0.30000000000000004, 0.1), "0.3");
-    assert_eq!(tick_label(0.025, 0.025), "0.025");
-    assert_eq!(tick_label(-2.5, 0.5), "-2.5");
-    assert_eq!(tick_label(1500.0, 500.0), "1500");
-    assert_eq!(three_significant_digits(8.7123), "8.71");
-    assert_eq!(three_significant_digits(-0.0), "0");
+fn colour_bars_mark_values_beyond_their_range() {
+    let map = |values: Vec<Option<f64>>| {
+        Heatmap::new("m", "x", "y", "v", vec![0.0, 1.0], vec![0.0, 1.0], values)
+    };
+    let labels = |h: &Heatmap| -> Vec<String> {
+        h.colour_bar_labels().into_iter().map(|(_, l)| l).collect()
+    };
+    let capped = map(vec![Some(0.6), Some(1.0), Some(1.5), Some(5.0)]).with_value_range(0.6, 2.0);
+    let all = labels(&capped);
+    assert_eq!(all.last().map(String::as_str), Some("≥ 2"), "{all:?}");
+    assert!(all.iter().all(|l| !l.starts_with('≤')), "{all:?}");
+    let below = map(vec![Some(0.1), Some(1.0), Some(1.5), Some(2.0)]).with_value_range(0.5, 2.0);
+    assert_eq!(labels(&below)[0], "≤ 0.5");
+    // Values within the range: plain ticks, every one inside it.
+    let plain = map(vec![Some(0.6), Some(1.0), Some(1.5), Some(2.0)]);
+    let ticks = plain.colour_bar_labels();
+    assert!(ticks
+        .iter()
+        .all(|(v, l)| (0.6..=2.0).contains(v) && !l.contains(['≥', '≤'])));
+    // A diverging scale about 1 reaches 1 and labels it.
+    let diverging = map(vec![Some(0.3), Some(0.45), Some(0.7), Some(0.8)])
+        .with_colour_scale(ColourScale::Diverging { centre: 1.0 });
+    assert_eq!(diverging.colour_range(), (0.3, 1.0));
+    assert!(diverging
+        .colour_bar_labels()
+        .contains(&(1.0, "1".to_string())));
 }
 
 /// One far outlier does not stretch the range; a spread of data does.
@@ -199,10 +217,11 @@ fn figures_are_written_as_png_and_svg() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 6);
 }
 
-/// A set of report files is written whole or not at all: a figure that cannot be drawn,
-/// listed after a CSV table and a good figure, leaves none of them (and no temporary file).
+/// Tables come before figures, and a figure never costs data: a figure that cannot be
+/// drawn, listed before a CSV table and a good figure, leaves its own two files out and is
+/// reported, while the table and the good figure are written (and no temporary file stays).
 #[test]
-fn a_failed_file_leaves_none_of_its_set() {
+fn a_figure_that_cannot_be_drawn_leaves_the_tables_written() {
     use hopsim_io::CsvTable;
     use hopsim_studies::{write_files, ReportFile};
     let dir = tempfile::tempdir().unwrap();
@@ -210,6 +229,7 @@ fn a_failed_file_leaves_none_of_its_set() {
     table.push(vec![1.0.into()]);
     let good = LinePlot::new("good", "x (m)", "y (m)")
         .with_series(Series::line("s", vec![(0.0, 0.0), (1.0, 1.0)]));
+    // Two cell centres along x, one along y, but a single value: it cannot be drawn.
     let bad = Heatmap::new(
         "bad",
         "x",
@@ -220,14 +240,36 @@ fn a_failed_file_leaves_none_of_its_set() {
         vec![Some(1.0)],
     );
     let files = [
+        ReportFile::figure("bad", bad),
         ReportFile::csv("table.csv", table),
         ReportFile::figure("good", good),
-        ReportFile::figure("bad", bad),
     ];
-    assert!(write_files(dir.path(), &files).is_err());
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
-    // Without the bad figure the whole set appears.
-    let written = write_files(dir.path(), &files[..2]).unwrap();
-    assert_eq!(written.len(), 3);
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
+    let written = write_files(dir.path(), &files).unwrap();
+    let names = |paths: &[std::path::PathBuf]| -> Vec<String> {
+        (paths.iter())
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect()
+    };
+    assert_eq!(names(&written.files), ["table.csv", "good.png", "good.svg"]);
+    assert_eq!(written.missing_figures.len(), 1);
+    let missing = &written.missing_figures[0];
+    assert_eq!(missing.figure, "bad");
+    assert_eq!(names(&missing.files), ["bad.png", "bad.svg"]);
+    assert!(
+        missing
+            .reason
+            .contains("heatmap needs 2×1 = 2 values, got 1"),
+        "{missing}"
+    );
+    let warning = missing.to_string();
+    assert!(
+        warning.contains("`bad`") && warning.contains("bad.svg"),
+        "{warning}"
+    );
+    let mut on_disk: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    on_disk.sort();
+    assert_eq!(on_disk, ["good.png", "good.svg", "table.csv"]);
 }

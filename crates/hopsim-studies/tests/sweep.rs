@@ -17,7 +17,7 @@ fn params(axes: &[&str], baselines: &[&str]) -> SweepParams {
     SweepParams {
         axes: axes.iter().map(|a| a.parse().unwrap()).collect(),
         baselines: baselines.iter().map(|b| b.parse().unwrap()).collect(),
-        y: "distance_per_hop_m".into(),
+        y: Some("distance_per_hop_m".into()),
         max_runs: hopsim_studies::sweep::DEFAULT_MAX_RUNS,
     }
 }
@@ -138,7 +138,9 @@ fn rows_follow_the_grid_then_the_baselines_and_failed_runs_keep_their_error() {
 
     let dir = tempfile::tempdir().unwrap();
     let written = hopsim_studies::write_files(dir.path(), &report.files()).unwrap();
+    assert!(written.missing_figures.is_empty());
     let names: Vec<String> = written
+        .files
         .iter()
         .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
@@ -175,4 +177,54 @@ fn parts_of_a_sweep_give_its_rows() {
     let parts: Vec<_> = parts.iter().map(key).collect();
     assert_eq!(parts, whole);
     assert!(sweep().run_part(7..9, &Silent).runs.is_empty());
+}
+
+fn classic(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/classic")
+        .join(name);
+    hopsim_scene::load(&path, &[]).unwrap()
+}
+
+/// A robot hopping in place: its distances are round-off (far below a nanometre against
+/// its 7 cm shapes), drawn as zero, never as data; by default the plot shows the first
+/// figure that varies over the grid (here its hops, on whole numbers); the x axis names its
+/// scene key in words with the unit.
+#[test]
+fn a_robot_hopping_in_place_plots_what_varies_and_no_round_off() {
+    use hopsim_studies::plot::Scale;
+    let scene = classic("hopper.toml");
+    let mut p = params(&["bodies.body.mass=1,1.5,2"], &[]);
+    p.y = None;
+    let report = Sweep::new(&scene, &[], p.clone()).unwrap().run(&Silent);
+    assert!((report.length_scale_m - 0.05 * 2f64.sqrt()).abs() < 1e-12);
+    let hops: Vec<u64> = (report.runs.iter())
+        .map(|r| r.summary.as_ref().unwrap().summary.hops)
+        .collect();
+    assert!(hops.iter().any(|h| *h != hops[0]), "{hops:?}");
+    assert_eq!(report.y, "hops");
+    let figure = report.figure();
+    assert_eq!(
+        (figure.x_label.as_str(), figure.y_label.as_str()),
+        ("body mass (kg)", "hops")
+    );
+    assert_eq!(figure.y_scale, Scale::Integer);
+
+    p.y = Some("distance_per_hop_m".into());
+    let report = Sweep::new(&scene, &[], p).unwrap().run(&Silent);
+    for run in &report.runs {
+        let d = run.summary.as_ref().unwrap().summary.distance_per_hop_m;
+        assert!(d.abs() < 1e-9 * report.length_scale_m, "{d}");
+    }
+    let figure = report.figure();
+    let ys: Vec<f64> = figure.series[0].points.iter().map(|p| p.1).collect();
+    assert_eq!(ys, [0.0, 0.0, 0.0]);
+    // The pulse of the guided hopper's prismatic leg is a force, in newtons.
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/classic/hopper-driven.toml");
+    let base = vec![Override::new("simulation.duration", "0.2")];
+    let guided = hopsim_scene::load(&path, &base).unwrap();
+    let p = params(&["controller.force=1,2"], &[]);
+    let report = Sweep::new(&guided, &base, p).unwrap().run(&Silent);
+    assert_eq!(report.figure().x_label, "motor force F (N)");
 }

@@ -7,7 +7,7 @@
 use super::summary::SectionControl;
 use crate::plot::{viridis, LinePlot, RGBColor, Series, SeriesStyle};
 use crate::progress::Progress;
-use crate::report::{num, ReportFile, Table};
+use crate::report::{num, ReportFile, TextTable};
 use crate::robbit_gait::{rest_state, robbit_scene, StepperSettings};
 use crate::run_summary::run_scene;
 use crate::sweep::speed_against_impulse;
@@ -281,7 +281,7 @@ impl FixedPointGaits {
 
     /// The runs in numbers and the summary line against the thesis.
     pub fn text(&self) -> String {
-        let mut table = Table::new("Fixed points run from rest (the thesis' Figure 5.7)");
+        let mut table = TextTable::new("Fixed points run from rest (the thesis' Figure 5.7)");
         let completed = self.runs.iter().filter(|r| r.point().is_some()).count();
         table.row(
             "fixed points run from rest",

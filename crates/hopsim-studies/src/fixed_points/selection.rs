@@ -104,19 +104,30 @@ pub fn colour_range(values: &[Option<f64>], cap: bool) -> ColourRange {
     }
 }
 
-/// Where the maps mark an unstable fixed point (`(φ_TO, E_TO)`) on a grid of `n_angles`
-/// take-off angles (row-major, angles inner): on dense grids only every `k`-th row and
-/// column (`k = ⌈max(n, m) / 40⌉`), so that the crosses hatch the region without hiding it.
-pub fn unstable_markers(points: &[PointSummary], n_angles: usize) -> Vec<(f64, f64)> {
-    let n_energies = points.len() / n_angles.max(1);
-    let k = n_angles.max(n_energies).div_ceil(40);
+/// Where the maps mark the points `marked` picks (`(φ_TO, E_TO)`, e.g. the unstable fixed
+/// points) on a grid of `n_angles` take-off angles (row-major, angles inner): on dense grids
+/// only every `k`-th row and column (`k = ⌈max(n, m) / 40⌉`), so that the markers hatch the
+/// region without hiding it.
+pub fn grid_markers(
+    points: &[PointSummary],
+    n_angles: usize,
+    marked: impl Fn(&PointSummary) -> bool,
+) -> Vec<(f64, f64)> {
+    let n_angles = n_angles.max(1);
+    let n_energies = points.len() / n_angles;
+    let k = n_angles.max(n_energies).div_ceil(40).max(1);
     points
         .iter()
         .enumerate()
         .filter(|(i, _)| (i % n_angles).is_multiple_of(k) && (i / n_angles).is_multiple_of(k))
-        .filter(|(_, q)| q.fixed_point && !q.stable)
+        .filter(|(_, q)| marked(q))
         .map(|(_, q)| (q.takeoff_angle_rad, q.takeoff_energy))
         .collect()
+}
+
+/// An unstable fixed point (`max |λ| ≥ 1`).
+pub fn unstable(q: &PointSummary) -> bool {
+    q.fixed_point && !q.stable
 }
 
 #[cfg(test)]
@@ -262,7 +273,7 @@ mod tests {
     }
 
     #[test]
-    fn unstable_markers_thin_out_on_dense_grids() {
+    fn markers_thin_out_on_dense_grids() {
         let grid = |n: usize, m: usize| -> Vec<PointSummary> {
             (0..n * m)
                 .map(|i| PointSummary {
@@ -273,9 +284,9 @@ mod tests {
                 .collect()
         };
         // Up to 40 × 40 every unstable point is marked.
-        assert_eq!(unstable_markers(&grid(40, 3), 40).len(), 120);
+        assert_eq!(grid_markers(&grid(40, 3), 40, unstable).len(), 120);
         // 81 × 2: k = 3, every third angle of the first energy row.
-        let marks = unstable_markers(&grid(81, 2), 81);
+        let marks = grid_markers(&grid(81, 2), 81, unstable);
         assert_eq!(marks.len(), 27);
         assert!(marks
             .iter()
@@ -286,7 +297,7 @@ mod tests {
             missing("numerical"),
             found(1.5, 0.1, false),
         ];
-        assert_eq!(unstable_markers(&mixed, 3).len(), 1);
+        assert_eq!(grid_markers(&mixed, 3, unstable).len(), 1);
     }
 
     #[test]

@@ -121,6 +121,18 @@ pub struct FixedPointSummary {
 }
 
 impl FixedPointSummary {
+    /// Whether the gait leaves the friction cone of `μ = friction`: a touchdown percussion
+    /// with `|Λ_T| > μ Λ_N` (for `Λ_N ≥ 0`) or a stance with `max |F_T|/F_N > μ`, as in
+    /// the model's warnings (docs/analysis.md).
+    pub fn leaves_friction_cone(&self, friction: f64) -> bool {
+        let (normal, tangential) = (
+            self.touchdown_normal_percussion,
+            self.touchdown_tangential_percussion,
+        );
+        (normal >= 0.0 && tangential.abs() > friction * normal)
+            || self.max_stance_friction_ratio > friction
+    }
+
     /// The summary of `fp` for the robot `p` (its `μ` decides the warnings).
     pub fn new(p: &RobbitParams, fp: &FixedPoint) -> Self {
         let c = &fp.cycle;

@@ -4,7 +4,7 @@
 use super::selection::evenly_spaced;
 use super::summary::{Eigenvalue, FixedPointSummary, GaitCheck, PointSummary};
 use super::{GridReport, PointReport};
-use crate::report::{num, num_range, nums, opt_num, Table};
+use crate::report::{num, num_range, nums, opt_num, TextTable};
 use std::fmt::Write;
 
 /// Grid points listed under the grid's table besides the most stable and the fastest.
@@ -46,8 +46,8 @@ fn gait_check_text(check: Option<&GaitCheck>, requested: bool, missing: &str) ->
     }
 }
 
-fn gait_check_table(check: &GaitCheck) -> Table {
-    let mut t = Table::new(format!(
+fn gait_check_table(check: &GaitCheck) -> TextTable {
+    let mut t = TextTable::new(format!(
         "time-stepper from rest (Δt = {} s, {} s, {} brakes) vs predicted gait",
         check.dt_s, check.duration_s, check.brakes
     ));
@@ -118,7 +118,7 @@ fn gait_check_table(check: &GaitCheck) -> Table {
 }
 
 /// The fixed point's rows of the point's table.
-fn fixed_point_rows(t: &mut Table, f: &FixedPointSummary, stable: bool) {
+fn fixed_point_rows(t: &mut TextTable, f: &FixedPointSummary, stable: bool) {
     t.row("β* = (T*, ζ0*)", control(f.torque, f.impulse_limit))
         .row(
             "eigenvalues of ∂P/∂z",
@@ -168,8 +168,9 @@ fn fixed_point_rows(t: &mut Table, f: &FixedPointSummary, stable: bool) {
 /// The point's table, its model warnings and the cross-check.
 pub fn point_text(r: &PointReport) -> String {
     let q = &r.point;
-    let mut t =
-        Table::new("Robbit fixed point (docs/physics.md §5.3; forward = +x, φ counter-clockwise)");
+    let mut t = TextTable::new(
+        "Robbit fixed point (docs/physics.md §5.3; forward = +x, φ counter-clockwise)",
+    );
     t.row(
         "flywheel at touchdown",
         r.about.parameters.flywheel_at_touchdown,
@@ -211,7 +212,7 @@ pub fn point_text(r: &PointReport) -> String {
 /// The grid's table, the sample of its fixed points and the cross-check.
 pub fn grid_text(r: &GridReport) -> String {
     let (n, m) = (r.angles_rad.len(), r.energies.len());
-    let mut t = Table::new(format!(
+    let mut t = TextTable::new(format!(
         "Robbit fixed points (docs/physics.md §5.3), {n} × {m} grid (φ_TO × E_TO)"
     ));
     let reasons = if r.no_fixed_point_reasons.is_empty() {

@@ -4,7 +4,7 @@
 use super::{span, ParamsWithEccentricity};
 use crate::plot::{three_significant_digits, LinePlot, RGBColor, Series, SeriesStyle, PALETTE};
 use crate::progress::Progress;
-use crate::report::{num, num_range, Report, ReportFile, Table};
+use crate::report::{num, num_range, Report, ReportFile, TextTable};
 use crate::Result;
 use hopsim_analysis::template::{
     sweep_case, GaitSummary, SweepPoint, TemplateCase, TemplateParams,
@@ -216,7 +216,7 @@ impl Report for AnimalSweepsReport {
     fn text(&self) -> String {
         let mut text = String::new();
         for sweep in &self.sweeps {
-            let mut t = Table::new(format!(
+            let mut t = TextTable::new(format!(
                 "{} sweep: {} take-off angles × {} energies",
                 sweep.case.name(),
                 TAKEOFF_ANGLES,

@@ -4,7 +4,7 @@
 use super::ParamsWithEccentricity;
 use crate::plot::Heatmap;
 use crate::progress::Progress;
-use crate::report::{num, num_range, Report, ReportFile, Table};
+use crate::report::{num, num_range, Report, ReportFile, TextTable};
 use crate::Result;
 use hopsim_analysis::template::{CargoGrid, GaitSummary, GridCell, TemplateParams};
 use hopsim_analysis::AnalysisError;
@@ -207,7 +207,7 @@ fn describe(c: &GridCell) -> String {
 impl Report for CargoGridReport {
     fn text(&self) -> String {
         let (ratios, angles) = (&self.leg_over_radius, &self.takeoff_angles);
-        let mut t = Table::new(format!(
+        let mut t = TextTable::new(format!(
             "Cargo template grid, {} × {} cells (l/R × φ_TO)",
             ratios.len(),
             angles.len()

@@ -3,7 +3,7 @@
 
 use super::ParamsWithEccentricity;
 use crate::plot::{LinePlot, Series, SeriesStyle, PALETTE};
-use crate::report::{num, nums, Report, ReportFile, Table};
+use crate::report::{num, nums, Report, ReportFile, TextTable};
 use crate::Result;
 use hopsim_analysis::template::{
     self, GaitSummary, NoGait, Phase, TemplateCase, TemplateParams, TemplateRun, TrajectorySample,
@@ -280,7 +280,7 @@ impl CaseReport {
 impl Report for CaseReport {
     fn text(&self) -> String {
         let p = &self.run.params;
-        let mut t = Table::new(format!(
+        let mut t = TextTable::new(format!(
             "template {} (docs/physics.md §5.1; forward = +x)",
             self.case
         ));
@@ -302,7 +302,7 @@ impl Report for CaseReport {
         let mut text = t.to_string();
         match (&self.run.summary, &self.run.no_gait) {
             (Some(s), _) => {
-                let mut r = Table::new(format!("gait over the last {} hops", p.window));
+                let mut r = TextTable::new(format!("gait over the last {} hops", p.window));
                 r.row("mean speed", num(s.mean_speed_mps, "m/s"))
                     .row("stride", num(s.stride_m, "m"))
                     .row("hop frequency", num(s.hop_frequency_hz, "Hz"))
