@@ -92,10 +92,13 @@ fn python_package_installs_and_passes_its_tests_and_notebook() {
     if run(&mut pip(TEST_PACKAGES)) != Some(true) {
         return skip_or_fail(&format!("pip cannot install {}", TEST_PACKAGES.join(", ")));
     }
-    // The package itself: a failure here is a failure of this repository.
+    // The package itself: a failure here is a failure of this repository. Built with its
+    // test hooks (`HOPSIM_PANIC_IN`, python/Cargo.toml), which the tests of its panic
+    // boundary need.
     let installed = run(pip(&["--force-reinstall", "--no-deps"])
         .arg(repo.join("python"))
-        .env("CARGO_TARGET_DIR", target.join("python-wheel")));
+        .env("CARGO_TARGET_DIR", target.join("python-wheel"))
+        .env("MATURIN_PEP517_ARGS", "--features test-hooks"));
     assert_eq!(installed, Some(true), "pip install ./python failed");
 
     let pytest = run(Command::new(&venv_python)

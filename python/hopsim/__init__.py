@@ -15,6 +15,12 @@ wraps the Rust crates of hopsim (it re-implements nothing): the numbers are thos
 * :func:`sweep`: a scene over a grid of parameters on all local cores, or on a Dask
   cluster in chunks, as the table of ``hopsim sweep``.
 
+Every exception hopsim raises derives from :class:`HopsimError` (an ``Exception``):
+:class:`SceneError` (also a ``ValueError``), :class:`SimulationError` (also a
+``RuntimeError``) and :class:`InternalError` (a bug in hopsim, caught where Python called
+in). Long calls run Python's signal handlers about every 50 ms: Ctrl-C raises
+``KeyboardInterrupt``.
+
 See docs/python.md.
 """
 
@@ -27,7 +33,14 @@ from typing import Any, Dict, List, Optional
 import numpy as np
 
 from . import _hopsim, lcp
-from ._hopsim import Actuation, Scene, SceneError, SimulationError
+from ._hopsim import (
+    Actuation,
+    HopsimError,
+    InternalError,
+    Scene,
+    SceneError,
+    SimulationError,
+)
 from ._sweep import SweepTable, sweep
 from ._trajectory import Recording, Trajectory
 
@@ -35,6 +48,8 @@ __version__: str = _hopsim.__version__
 
 __all__ = [
     "Actuation",
+    "HopsimError",
+    "InternalError",
     "Recording",
     "Scene",
     "SceneError",
@@ -59,15 +74,32 @@ class Simulation(_hopsim.Simulation):
     """
 
     def run(
-        self, duration: Optional[float] = None, record_rate: Optional[float] = None
+        self,
+        duration: Optional[float] = None,
+        record_rate: Optional[float] = None,
+        frames: bool = True,
     ) -> Trajectory:
-        """Continues for ``duration`` seconds (default: the scene's ``simulation.duration``)
-        with the scene's controller, the GIL released, recording a frame at
-        ``record_rate`` Hz (default: the scene's ``simulation.record_rate``) and at every
-        step with an event, as ``hopsim run`` records. For a new simulation and the
-        scene's duration the trajectory and its ``summary`` are those of
-        ``hopsim run SCENE --summary FILE`` (but for the wall time)."""
-        return Trajectory._from_run(self._run(duration, record_rate))
+        """Continues for ``duration`` seconds (default: the scene's ``simulation.duration``;
+        at most ``simulation.max_steps`` steps, else ``ValueError``) with the scene's
+        controller, the GIL released, recording a frame at ``record_rate`` Hz (default: the
+        scene's ``simulation.record_rate``) and at every step with an event, as
+        ``hopsim run`` records. With ``frames=False`` it keeps no frames and no events, only
+        the summary, so memory stays bounded however long the run. For a new simulation and
+        the scene's duration the trajectory and its ``summary`` are those of
+        ``hopsim run SCENE --summary FILE`` (but for the wall time).
+
+        A run that stops early (``SimulationError``, ``InternalError``, or Ctrl-C's
+        ``KeyboardInterrupt``, raised within about 50 ms) keeps what it recorded: the
+        exception's ``trajectory`` holds the frames up to the stop (its ``summary`` is
+        None), and the simulation stays at the last completed step."""
+        try:
+            raw = self._run(duration, record_rate, frames)
+        except BaseException as error:
+            partial = getattr(error, "_partial_run", None)
+            if partial is not None:
+                error.trajectory = Trajectory._from_run(partial)
+            raise
+        return Trajectory._from_run(raw)
 
     def events(self) -> List[Dict[str, Any]]:
         """The events of the last step (take-off, touchdown, brake, ...), as recorded."""
@@ -81,7 +113,8 @@ class Simulation(_hopsim.Simulation):
 
 def read_mcap(path: "str | os.PathLike[str]") -> Recording:
     """Reads a recording written by ``hopsim run --mcap`` (numbers bit for bit): the
-    recorded states, contact and brake impulses, events, metadata and the scene file.
-    Raises ``ValueError`` for a file that is not a complete hopsim recording."""
+    recorded states, contact and brake impulses, events, metadata and the scene file. A
+    recording kept after its run stopped early (``FILE.partial.mcap``) says why in
+    ``stopped``. Raises ``ValueError`` for a file that is not a hopsim recording."""
     return Recording._from_raw(_hopsim.read_mcap(path))
 

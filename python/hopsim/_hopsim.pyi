@@ -11,7 +11,12 @@ __version__: str
 _Path = Union[str, "os.PathLike[str]"]
 _Overrides = Mapping[str, Any]
 
-class SceneError(ValueError):
+_TEST_HOOKS: bool
+
+class HopsimError(Exception):
+    """The base of every exception hopsim raises."""
+
+class SceneError(HopsimError, ValueError):
     """An invalid scene; the attributes that do not apply are None."""
 
     file: Optional[str]
@@ -21,8 +26,15 @@ class SceneError(ValueError):
     override: Optional[str]
     message: str
 
-class SimulationError(RuntimeError):
+class SimulationError(HopsimError, RuntimeError):
     """A simulation stopped (non-finite or runaway state, or a strict LCP failure)."""
+
+class InternalError(HopsimError):
+    """A bug in hopsim (a panic in Rust), with the step and time where known."""
+
+    step: Optional[int]
+    t: Optional[float]
+    message: str
 
 class Scene:
     """A validated scene (immutable, picklable)."""
@@ -92,7 +104,10 @@ class Simulation:
     def scene(self) -> Scene: ...
     def step(self, n: int = 1, actuation: Optional[Actuation] = None) -> None: ...
     def _run(
-        self, duration: Optional[float] = None, record_rate: Optional[float] = None
+        self,
+        duration: Optional[float] = None,
+        record_rate: Optional[float] = None,
+        frames: bool = True,
     ) -> Dict[str, Any]: ...
     @property
     def t(self) -> float: ...
@@ -103,7 +118,11 @@ class Simulation:
     @property
     def u(self) -> npt.NDArray[np.float64]: ...
     def set_state(
-        self, q: npt.ArrayLike, u: npt.ArrayLike, t: Optional[float] = None
+        self,
+        q: npt.ArrayLike,
+        u: npt.ArrayLike,
+        t: Optional[float] = None,
+        restore: bool = False,
     ) -> None: ...
     @property
     def angular_velocities(self) -> npt.NDArray[np.float64]: ...

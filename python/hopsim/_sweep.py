@@ -157,7 +157,9 @@ def sweep(
     fastest) and each baseline (``{name: {key: value}}``), as ``hopsim sweep`` does, and
     returns the table of ``sweep.csv``. A run that fails is a row with its error.
 
-    Without ``client`` the runs share all local cores (Rust threads, the GIL released).
+    Without ``client`` the runs share all local cores (Rust threads, the GIL released);
+    Ctrl-C stops them within about 50 ms, and the ``KeyboardInterrupt`` carries the
+    ``table`` so far (the runs it stopped are rows with their error).
     With a ``dask.distributed.Client`` they are cut into chunks of ``chunk_size`` runs
     (default: about sixteen chunks per worker thread) run on the cluster's workers, each on
     its worker's threads; the rows and their order are the same either way (but for
@@ -169,7 +171,13 @@ def sweep(
     lines = _baselines(baselines)
     runs = _hopsim.sweep_runs(scene, items, lines)
     if client is None:
-        return SweepTable._from_csv_parts([_hopsim.sweep_csv(scene, items, lines)])
+        try:
+            return SweepTable._from_csv_parts([_hopsim.sweep_csv(scene, items, lines)])
+        except KeyboardInterrupt as error:
+            partial = getattr(error, "_partial_csv", None)
+            if partial is not None:
+                error.table = SweepTable._from_csv_parts([partial])
+            raise
     if chunk_size is None:
         threads = sum(client.nthreads().values()) or 1
         chunk_size = max(1, math.ceil(runs / (CHUNKS_PER_THREAD * threads)))

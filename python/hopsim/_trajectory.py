@@ -43,7 +43,8 @@ class Trajectory:
         self.frames = raw["frames"]
         self.steps = raw["steps"].astype(np.int64)
         self.events = json.loads(raw["events"])
-        self.summary = json.loads(raw["summary"])
+        summary = raw["summary"]
+        self.summary = None if summary is None else json.loads(summary)
         return self
 
     def __len__(self) -> int:
@@ -91,9 +92,15 @@ class Trajectory:
         }
 
     @property
-    def actuator_torque(self) -> np.ndarray:
-        """Motor torque commanded in the frame's step, N m."""
+    def actuator(self) -> np.ndarray:
+        """The motor's command in the frame's step: a torque in N m, or a force in N on a
+        prismatic joint (the last column's name says which)."""
         return self.frames[:, -1]
+
+    @property
+    def actuator_torque(self) -> np.ndarray:
+        """``actuator`` (the name of older versions; N on a prismatic joint)."""
+        return self.actuator
 
     def to_pandas(self) -> "pandas.DataFrame":  # noqa: F821
         """The frames as a ``pandas.DataFrame`` with the CSV recorder's columns (``step``
@@ -110,7 +117,10 @@ class Recording:
     ``impulses``: ``step``, ``t``, ``channel``, ``normal``, ``tangent`` of every contact
     percussion (N s) and brake impulse (channel ``brake``, N m s). ``events``: every event.
     ``metadata``: scene name, ``dt``, coordinates, bodies, contacts, springs, hopsim
-    version. ``scene_text``: the scene file stored in the recording.
+    version. ``scene_text``: the scene file stored in the recording. ``stopped``: None for
+    a complete run; for a recording kept after the run stopped early
+    (``FILE.partial.mcap``), ``{"reason": str, "step": int, "t": float}``: why, and the
+    last step completed with its end time (s).
     """
 
     metadata: Dict[str, Any]
@@ -121,6 +131,7 @@ class Recording:
     u: np.ndarray
     impulses: Dict[str, Any]
     events: List[Dict[str, Any]]
+    stopped: Optional[Dict[str, Any]]
 
     @classmethod
     def _from_raw(cls, raw: Dict[str, Any]) -> "Recording":
@@ -134,13 +145,18 @@ class Recording:
         self.impulses = dict(raw["impulses"])
         self.impulses["step"] = self.impulses["step"].astype(np.int64)
         self.events = json.loads(raw["events"])
+        self.stopped = raw["stopped"]
         return self
 
     def __len__(self) -> int:
         return self.t.shape[0]
 
     def __repr__(self) -> str:
-        return f"Recording({self.metadata['scene']!r}, {len(self)} states, {len(self.events)} events)"
+        stopped = "" if self.stopped is None else f", stopped after step {self.stopped['step']}"
+        return (
+            f"Recording({self.metadata['scene']!r}, {len(self)} states, "
+            f"{len(self.events)} events{stopped})"
+        )
 
     def to_pandas(self) -> "pandas.DataFrame":  # noqa: F821
         """The states as a ``pandas.DataFrame``: ``t_s``, ``step``, then each coordinate

@@ -62,7 +62,10 @@ def _real_array(value: Any, name: str, ndim: int) -> np.ndarray:
 def solve(M: Any, q: Any) -> LcpSolution:
     """Solves the LCP ``w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0`` by Lemke's method with the
     lexicographic ratio test, retrying with another covering vector and, for small
-    ``n``, by enumeration (docs/lcp.md); the GIL is released while it runs.
+    ``n``, by enumeration (docs/lcp.md); the GIL is released while it runs. Ctrl-C during
+    the solve of a large problem (``n > 64``, solved on a thread of its own) raises
+    ``KeyboardInterrupt`` within about 50 ms; the abandoned solve finishes in the
+    background and its answer is dropped.
 
     ``M``: array-like ``(n, n)``; ``q``: array-like ``(n,)``; real numbers (integers are
     converted to float64). Raises ``TypeError`` for another dtype (bool, complex, text,

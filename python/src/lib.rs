@@ -3,9 +3,11 @@
 //! solver, MCAP recordings, sweeps). The pure-Python package `hopsim` re-exports it with
 //! trajectories, tables and the Dask front end of sweeps.
 
+mod errors;
 mod lcp;
 mod mcap;
 mod scene;
+mod signals;
 mod simulation;
 mod sweep;
 
@@ -18,11 +20,11 @@ fn _hopsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<simulation::PySimulation>()?;
     m.add_class::<simulation::PyActuation>()?;
-    m.add("SceneError", py.get_type::<scene::SceneError>())?;
-    m.add(
-        "SimulationError",
-        py.get_type::<simulation::SimulationError>(),
-    )?;
+    for class in errors::Class::ALL {
+        m.add(class.name(), errors::class(py, class)?)?;
+    }
+    // Whether the wheel was built with the cargo feature `test-hooks` (errors::test_hook).
+    m.add("_TEST_HOOKS", cfg!(feature = "test-hooks"))?;
     m.add_function(wrap_pyfunction!(lcp::lcp_solve, m)?)?;
     m.add_function(wrap_pyfunction!(lcp::lcp_read_dat, m)?)?;
     m.add_function(wrap_pyfunction!(mcap::read_mcap, m)?)?;

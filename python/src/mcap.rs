@@ -1,5 +1,6 @@
 //! `hopsim.read_mcap`: a hopsim MCAP recording read back into arrays.
 
+use crate::errors::guard;
 use hopsim_record::McapRecording;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -12,12 +13,18 @@ use std::path::PathBuf;
 /// bodies, contacts, springs, hopsim version), `scene_text` (the scene file stored in the
 /// recording, or None), `steps`, `t`, `q`, `u` (`/hopsim/state`, one row per recorded
 /// frame), `impulses` (`step`, `t`, `channel`, `normal`, `tangent`: the contact
-/// percussions and brake impulses) and `events` (JSON text). Raises `ValueError` when the
-/// file cannot be read or is not a complete hopsim recording.
+/// percussions and brake impulses), `events` (JSON text) and `stopped`: None for a
+/// complete run; for a recording kept after the run stopped early (`FILE.partial.mcap`),
+/// `reason`, `step` (the last step completed) and `t` (s, at its end). Raises `ValueError`
+/// when the file cannot be read or is not a hopsim recording.
 #[pyfunction]
 pub fn read_mcap<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    guard(py, "read_mcap", || recording_dict(py, &path))
+}
+
+fn recording_dict<'py>(py: Python<'py>, path: &std::path::Path) -> PyResult<Bound<'py, PyDict>> {
     let recording = py
-        .detach(|| McapRecording::read(&path))
+        .detach(|| McapRecording::read(path))
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let m = &recording.metadata;
     let metadata = PyDict::new(py);
@@ -69,5 +76,16 @@ pub fn read_mcap<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyD
     let events = serde_json::to_string(&recording.events)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     d.set_item("events", events)?;
+    let stopped = match &recording.stop {
+        None => None,
+        Some(stop) => {
+            let s = PyDict::new(py);
+            s.set_item("reason", &stop.reason)?;
+            s.set_item("step", stop.step)?;
+            s.set_item("t", stop.t)?;
+            Some(s)
+        }
+    };
+    d.set_item("stopped", stopped)?;
     Ok(d)
 }

@@ -1,32 +1,23 @@
 //! `hopsim.Scene` and `hopsim.SceneError`: a validated scene file, shared by the
 //! simulations and sweeps made from it.
 
+use crate::errors::{self, guard, Class};
 use hopsim_control::{ControllerConfig, Release};
 use hopsim_scene::{Location, Override};
 use numpy::PyArray1;
-use pyo3::create_exception;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-create_exception!(
-    hopsim,
-    SceneError,
-    PyValueError,
-    "An invalid scene: unreadable file, TOML syntax error, or a key missing, of the wrong \
-     type or out of range. Attributes: `file`, `line`, `column` (1-based), `key` (dotted \
-     path), `override` (the override that set the value) and `message`; those that do not \
-     apply are None."
-);
-
 /// The option named in errors about an override given from Python.
 pub const OVERRIDE_FLAG: &str = "overrides";
 
-/// The Python exception of a scene error, with its place as attributes.
+/// The Python exception of a scene error (`hopsim.SceneError`), with its place as
+/// attributes.
 pub fn scene_error(py: Python<'_>, error: &hopsim_scene::SceneError) -> PyErr {
-    let err = SceneError::new_err(error.to_string());
+    let err = errors::error(py, Class::Scene, error.to_string());
     let (mut file, mut line, mut column, mut over) = (None, None, None, None);
     match (error, error.location()) {
         (
@@ -125,9 +116,10 @@ pub struct PyScene {
 
 impl PyScene {
     fn parse(py: Python<'_>, text: &str, path: &Path, overrides: &[Override]) -> PyResult<Self> {
-        let scene = py
-            .detach(|| hopsim_scene::parse(text, path, overrides))
-            .map_err(|e| scene_error(py, &e))?;
+        let scene = guard(py, "Scene", || {
+            py.detach(|| hopsim_scene::parse(text, path, overrides))
+                .map_err(|e| scene_error(py, &e))
+        })?;
         Ok(Self {
             scene: Arc::new(scene),
         })
@@ -146,9 +138,10 @@ impl PyScene {
         overrides: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let overrides = overrides_from(overrides)?;
-        let scene = py
-            .detach(|| hopsim_scene::load(&path, &overrides))
-            .map_err(|e| scene_error(py, &e))?;
+        let scene = guard(py, "Scene.load", || {
+            py.detach(|| hopsim_scene::load(&path, &overrides))
+                .map_err(|e| scene_error(py, &e))
+        })?;
         Ok(Self {
             scene: Arc::new(scene),
         })
@@ -290,7 +283,8 @@ impl PyScene {
 
     /// `[simulation]` and `[summary]` settings: `duration` (s), `dt` (s), `gravity`
     /// (m/s²), `record_rate` (Hz), `speed_window` (s), `cube_restitution`, `strict`,
-    /// `warm_start`, `max_speed`.
+    /// `warm_start`, `max_speed` (m/s or rad/s), `max_steps` (the most steps of one run or
+    /// call).
     #[getter]
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &self.scene.settings;
@@ -304,6 +298,7 @@ impl PyScene {
         d.set_item("strict", s.strict)?;
         d.set_item("warm_start", s.warm_start)?;
         d.set_item("max_speed", s.max_speed)?;
+        d.set_item("max_steps", s.max_steps)?;
         Ok(d)
     }
 

@@ -1,21 +1,22 @@
 //! `hopsim.Simulation` and `hopsim.Actuation`: a scene stepped from Python, by its own
 //! controller or by a controller written in Python.
 
+use crate::errors::{error, guard, internal_error, Class};
 use crate::scene::PyScene;
+use crate::signals::SignalPoll;
 use hopsim_control::ControlEvent;
 use hopsim_model::Vec2;
 use hopsim_record::{
     frame_columns, frame_values, Event, Frame, RecordError, Recorder, RecorderSet,
 };
-use hopsim_scene::Scene;
-use hopsim_sim::{recording_info, RecordingObserver, RunError, Simulation};
+use hopsim_scene::{check_steps, Scene, StateProblem};
+use hopsim_sim::{recording_info, Observer, RecordingObserver, RunError, Simulation};
 use hopsim_step::{
     Actuation, ContactRecord, ImpulseCommand, JointForceCommand, State, TorqueCommand,
 };
 use hopsim_studies::run_summary::run_simulation;
 use nalgebra::DVector;
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayMethods};
-use pyo3::create_exception;
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -23,17 +24,46 @@ use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::{Arc, Mutex, MutexGuard};
 
-create_exception!(
-    hopsim,
-    SimulationError,
-    PyRuntimeError,
-    "A simulation stopped: a non-finite or runaway state, or (in strict mode) a contact LCP \
-     without a certified solution."
-);
+/// The Python exception of a run error of `what` (`Simulation.step`, `Simulation.run`):
+/// `InternalError` for a panic in a step, else `SimulationError`. An interrupted run
+/// raises what the signal handler raised (`poll`), e.g. `KeyboardInterrupt`.
+fn run_error(py: Python<'_>, what: &str, e: RunError, poll: Option<&mut SignalPoll>) -> PyErr {
+    if let Some(raised) = poll.and_then(SignalPoll::take_error) {
+        return raised;
+    }
+    match e {
+        RunError::Internal { step, t, message } => {
+            internal_error(py, what, Some((step, t)), &message)
+        }
+        e => error(py, Class::Simulation, e.to_string()),
+    }
+}
 
-/// The Python exception of a run error.
-fn run_error(error: RunError) -> PyErr {
-    SimulationError::new_err(error.to_string())
+/// Refuses a call of `steps` steps when the scene's `simulation.max_steps` is smaller (the
+/// bound of every run, as `hopsim run` has it).
+fn check_step_count(scene: &Scene, steps: u64) -> PyResult<()> {
+    let max = scene.settings.max_steps;
+    if steps <= max {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "{steps} steps are more than simulation.max_steps = {max}; {}",
+        raise_max_steps(steps as f64)
+    )))
+}
+
+/// How to allow `steps` steps from Python.
+fn raise_max_steps(steps: f64) -> String {
+    if steps > hopsim_scene::MAX_MAGNITUDE {
+        return format!(
+            "simulation.max_steps is at most {:e}: take fewer or larger steps",
+            hopsim_scene::MAX_MAGNITUDE
+        );
+    }
+    format!(
+        "raise it with scene.with_overrides({{'simulation.max_steps': {steps}}}) and a new \
+         Simulation to run this long"
+    )
 }
 
 /// What a controller written in Python commands for one step: torques held over the step,
@@ -264,17 +294,56 @@ fn positive(name: &str, value: Option<f64>, default: f64) -> PyResult<f64> {
     }
 }
 
+/// The dict of a run (see `PySimulation::_run`); `summary` is the run summary's JSON, or
+/// None for a run that stopped early.
+fn run_dict<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    frames: Frames,
+    summary: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let columns = frame_columns(&recording_info(scene));
+    let width = columns.len();
+    let rows = frames.steps.len();
+    let events = serde_json::to_string(&frames.events)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let d = PyDict::new(py);
+    d.set_item("columns", columns)?;
+    d.set_item(
+        "frames",
+        PyArray1::from_vec(py, frames.values).reshape([rows, width])?,
+    )?;
+    d.set_item("steps", PyArray1::from_vec(py, frames.steps))?;
+    d.set_item("events", events)?;
+    d.set_item("summary", summary)?;
+    d.set_item("coordinates", scene.coordinates.clone())?;
+    Ok(d)
+}
+
+/// The message of a state `set_state` refuses.
+fn state_error(problem: &StateProblem) -> PyErr {
+    let hint = match problem {
+        StateProblem::Start(_) => {
+            "; a state a simulation of this scene reached (contacts in load are slightly \
+             penetrated) is restored with restore=True"
+        }
+        _ => "",
+    };
+    PyValueError::new_err(format!("{problem}{hint}"))
+}
+
 #[pymethods]
 impl PySimulation {
     /// A simulation of `scene` at its initial state.
     #[new]
-    fn new(scene: Bound<'_, PyScene>) -> Self {
+    fn new(py: Python<'_>, scene: Bound<'_, PyScene>) -> PyResult<Self> {
         let shared = scene.get().scene.clone();
-        Self {
-            sim: Mutex::new(Simulation::shared(shared.clone())),
+        let sim = guard(py, "Simulation", || Ok(Simulation::shared(shared.clone())))?;
+        Ok(Self {
+            sim: Mutex::new(sim),
             scene: shared,
             py_scene: scene.unbind(),
-        }
+        })
     }
 
     /// The scene being simulated.
@@ -283,10 +352,13 @@ impl PySimulation {
         self.py_scene.clone_ref(py)
     }
 
-    /// Takes `n` steps. Without `actuation` the scene's controller acts; with one, its
-    /// commands act in each of these steps instead (the scene's controller is not called,
-    /// so it does not advance). The GIL is released while more than one step runs.
-    /// Raises `SimulationError` when a step fails (a non-finite or runaway state).
+    /// Takes `n` steps (at most the scene's `simulation.max_steps`). Without `actuation`
+    /// the scene's controller acts; with one, its commands act in each of these steps
+    /// instead (the scene's controller is not called, so it does not advance). The GIL is
+    /// released while more than one step runs, and Python's signal handlers run about
+    /// every 50 ms (Ctrl-C raises `KeyboardInterrupt` after the step under way). Raises
+    /// `SimulationError` when a step fails (a non-finite or runaway state) and
+    /// `InternalError` when it panics (a bug).
     #[pyo3(signature = (n = 1, actuation = None))]
     fn step(
         &mut self,
@@ -294,69 +366,86 @@ impl PySimulation {
         n: u64,
         actuation: Option<PyRef<'_, PyActuation>>,
     ) -> PyResult<()> {
+        const WHAT: &str = "Simulation.step";
         let scene = self.scene.clone();
+        check_step_count(&scene, n)?;
         let sim = self.sim();
-        match actuation {
-            Some(a) => {
-                a.check(&scene)?;
-                for _ in 0..n {
-                    sim.step_with(&a.actuation, &a.events, &mut ())
-                        .map_err(run_error)?;
+        guard(py, WHAT, || {
+            // One step returns to Python at once: no need to poll for signals.
+            let (mut poll, mut single) = (SignalPoll::new(), ());
+            let result = match actuation {
+                Some(a) => {
+                    a.check(&scene)?;
+                    let observer: &mut dyn Observer = if n > 1 { &mut poll } else { &mut single };
+                    (0..n).try_for_each(|_| sim.step_with(&a.actuation, &a.events, observer))
                 }
-                Ok(())
-            }
-            None if n == 1 => sim.step(&mut ()).map_err(run_error),
-            None => py
-                .detach(|| (0..n).try_for_each(|_| sim.step(&mut ())))
-                .map_err(run_error),
-        }
+                None if n == 1 => sim.step(&mut single),
+                None => py.detach(|| (0..n).try_for_each(|_| sim.step(&mut poll))),
+            };
+            result.map_err(|e| run_error(py, WHAT, e, Some(&mut poll)))
+        })
     }
 
     /// Continues the simulation for `duration` seconds (default: the scene's
-    /// `simulation.duration`) with the scene's controller, recording frames at
-    /// `record_rate` Hz (default: the scene's) and at every step with an event, the GIL
-    /// released. Returns a dict: `columns` (the CSV recorder's column names), `frames`
-    /// (one row per frame), `steps`, `events` (JSON), `summary` (JSON, the CLI's
-    /// `--summary` document). `hopsim.Simulation.run` wraps it as a `Trajectory`.
-    #[pyo3(signature = (duration = None, record_rate = None))]
+    /// `simulation.duration`; at most `simulation.max_steps` steps) with the scene's
+    /// controller, the GIL released, Python's signal handlers run about every 50 ms.
+    /// With `frames`, records frames at `record_rate` Hz (default: the scene's) and at
+    /// every step with an event; without, keeps neither frames nor events (memory stays
+    /// bounded however long the run). Returns a dict: `columns` (the CSV recorder's column
+    /// names), `frames` (one row per frame), `steps`, `events` (JSON), `summary` (JSON, the
+    /// CLI's `--summary` document). A run that stops early raises with this dict (its
+    /// summary None) as the exception's `_partial_run`. `hopsim.Simulation.run` wraps it as
+    /// a `Trajectory`.
+    #[pyo3(signature = (duration = None, record_rate = None, frames = true))]
     fn _run<'py>(
         &mut self,
         py: Python<'py>,
         duration: Option<f64>,
         record_rate: Option<f64>,
+        frames: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
+        const WHAT: &str = "Simulation.run";
         let scene = self.scene.clone();
         let duration = positive("duration", duration, scene.settings.duration)?;
+        let dt = scene.settings.dt;
+        check_steps(duration, dt, scene.settings.max_steps).map_err(|e| {
+            PyValueError::new_err(format!("duration: {e}; {}", raise_max_steps(e.steps)))
+        })?;
+        if (duration / dt).round() < 1.0 {
+            return Err(PyValueError::new_err(format!(
+                "duration {duration} s is less than half a step of {dt} s: the run would take \
+                 no step"
+            )));
+        }
         let rate = positive("record_rate", record_rate, scene.settings.record_rate)?;
         let sim = self.sim();
-        let (report, frames) = py.detach(|| {
-            let frames = Rc::new(RefCell::new(Frames::default()));
-            let mut recorders = RecorderSet::default();
-            recorders.push(Box::new(FrameCollector(frames.clone())));
-            let mut observer = RecordingObserver::with_rate(recorders, &scene, rate);
-            let report = run_simulation(sim, duration, &mut observer)
-                .and_then(|r| observer.finish().map(|()| r))
-                .map_err(|e| e.to_string())
-                .and_then(|r| serde_json::to_string(&r).map_err(|e| e.to_string()));
-            (report, frames.take())
-        });
-        let summary = report.map_err(SimulationError::new_err)?;
-        let columns = frame_columns(&recording_info(&scene));
-        let width = columns.len();
-        let rows = frames.steps.len();
-        let events = serde_json::to_string(&frames.events)
-            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        let d = PyDict::new(py);
-        d.set_item("columns", columns)?;
-        d.set_item(
-            "frames",
-            PyArray1::from_vec(py, frames.values).reshape([rows, width])?,
-        )?;
-        d.set_item("steps", PyArray1::from_vec(py, frames.steps))?;
-        d.set_item("events", events)?;
-        d.set_item("summary", summary)?;
-        d.set_item("coordinates", scene.coordinates.clone())?;
-        Ok(d)
+        guard(py, WHAT, || {
+            let (report, kept, mut poll) = py.detach(|| {
+                let kept = Rc::new(RefCell::new(Frames::default()));
+                let mut recorder = frames.then(|| {
+                    let mut recorders = RecorderSet::default();
+                    recorders.push(Box::new(FrameCollector(kept.clone())));
+                    RecordingObserver::with_rate(recorders, &scene, rate)
+                });
+                let mut poll = SignalPoll::new();
+                let report = run_simulation(sim, duration, &mut (&mut recorder, &mut poll))
+                    .and_then(|r| recorder.map_or(Ok(()), |o| o.finish()).map(|()| r));
+                (report, kept.take(), poll)
+            });
+            match report {
+                Ok(report) => {
+                    let summary = serde_json::to_string(&report)
+                        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+                    run_dict(py, &scene, kept, Some(summary))
+                }
+                Err(e) => {
+                    let err = run_error(py, WHAT, e, Some(&mut poll));
+                    err.value(py)
+                        .setattr("_partial_run", run_dict(py, &scene, kept, None)?)?;
+                    Err(err)
+                }
+            }
+        })
     }
 
     /// Time, s.
@@ -385,36 +474,36 @@ impl PySimulation {
 
     /// Restarts the run at `q`, `u` and time `t` (default: the current time): the step
     /// count, energy ledger, LCP statistics and flight phases restart; the controller and
-    /// the shapes switched on stay as they are.
-    #[pyo3(signature = (q, u, t = None))]
+    /// the shapes switched on stay as they are. The state is checked as a scene's
+    /// `[initial]` is: one finite value per coordinate within the scene's bounds
+    /// (`|q_i| ≤ 1e6`, `|u_i| ≤ simulation.max_speed`, `|t| ≤ 1e9` s), and no shape inside
+    /// the terrain or another body, no joint past a stop (`ValueError` naming the contact or
+    /// joint and the depth). `restore=True` skips the latter for a state a simulation of
+    /// the scene reached, whose contacts in load are slightly penetrated.
+    #[pyo3(signature = (q, u, t = None, restore = false))]
     fn set_state(
         &mut self,
+        py: Python<'_>,
         q: PyArrayLike1<'_, f64, AllowTypeChange>,
         u: PyArrayLike1<'_, f64, AllowTypeChange>,
         t: Option<f64>,
+        restore: bool,
     ) -> PyResult<()> {
-        let n = self.scene.coordinates.len();
-        let q = q.as_array();
-        let u = u.as_array();
-        if q.len() != n || u.len() != n {
-            return Err(PyValueError::new_err(format!(
-                "q and u must have {n} entries ({}), got {} and {}",
-                self.scene.coordinates.join(", "),
-                q.len(),
-                u.len()
-            )));
-        }
-        let t = t.unwrap_or_else(|| self.shared().state().t);
-        if !t.is_finite() || q.iter().chain(u.iter()).any(|x| !x.is_finite()) {
-            return Err(PyValueError::new_err("t, q and u must be finite"));
-        }
+        let (q, u) = (q.as_array(), u.as_array());
         let state = State {
-            t,
-            q: DVector::from_iterator(n, q.iter().copied()),
-            u: DVector::from_iterator(n, u.iter().copied()),
+            t: t.unwrap_or_else(|| self.shared().state().t),
+            q: DVector::from_iterator(q.len(), q.iter().copied()),
+            u: DVector::from_iterator(u.len(), u.iter().copied()),
         };
-        self.sim().set_state(state);
-        Ok(())
+        let sim = self.sim();
+        guard(py, "Simulation.set_state", || {
+            let set = if restore {
+                sim.restore_state(state)
+            } else {
+                sim.set_state(state)
+            };
+            set.map_err(|p| state_error(&p))
+        })
     }
 
     /// Absolute angular velocity of each body, rad/s (a copy).

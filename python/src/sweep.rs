@@ -1,13 +1,17 @@
 //! `hopsim.sweep`: the sweep of hopsim-studies (`hopsim sweep`) over a grid given from
 //! Python, whole or in chunks of runs.
 
+use crate::errors::guard;
 use crate::scene::{overrides_from, scene_error, PyScene};
+use crate::signals::wait_for;
 use hopsim_sim::GridAxis;
 use hopsim_studies::progress::Silent;
 use hopsim_studies::sweep::{Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
 
 /// The sweep's parameters: `grid` `[(key, values)]` in axis order (the last varies
 /// fastest), `baselines` `{name: {key: value}}`.
@@ -72,12 +76,16 @@ pub fn sweep_runs(
     grid: Vec<(String, Vec<f64>)>,
     baselines: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<usize> {
-    Ok(checked(py, scene, params(grid, baselines)?)?.runs())
+    guard(py, "sweep", || {
+        Ok(checked(py, scene, params(grid, baselines)?)?.runs())
+    })
 }
 
 /// Runs the runs `start..stop` of a sweep on `threads` threads (default: all cores), the
 /// GIL released, and returns their rows of `hopsim sweep`'s `sweep.csv` (CSV text with
-/// its header).
+/// its header). Python's signal handlers run about every 50 ms: on Ctrl-C the runs stop at
+/// their next step and `KeyboardInterrupt` carries the rows (those stopped are errors) as
+/// `_partial_csv`.
 #[pyfunction]
 #[pyo3(signature = (scene, grid, baselines = None, start = 0, stop = None, threads = None))]
 pub fn sweep_csv(
@@ -89,17 +97,40 @@ pub fn sweep_csv(
     stop: Option<usize>,
     threads: Option<usize>,
 ) -> PyResult<String> {
-    let sweep = checked(py, scene, params(grid, baselines)?)?;
-    let part = start..stop.unwrap_or(usize::MAX);
-    let run = move || sweep.run_part(part, &Silent).table().to_csv_string();
-    match threads {
-        None => Ok(py.detach(run)),
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n.max(1))
-                .build()
-                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-            Ok(py.detach(|| pool.install(run)))
-        }
-    }
+    guard(py, "sweep", || {
+        let interrupted = AtomicBool::new(false);
+        let sweep = checked(py, scene, params(grid, baselines)?)?.stopped_by(&interrupted);
+        let part = start..stop.unwrap_or(usize::MAX);
+        let pool = threads
+            .map(|n| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n.max(1))
+                    .build()
+            })
+            .transpose()
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let run = move || {
+            let run = || sweep.run_part(part, &Silent).table().to_csv_string();
+            match pool {
+                Some(pool) => pool.install(run),
+                None => run(),
+            }
+        };
+        // The sweep on a thread of its own; this one runs Python's signal handlers.
+        std::thread::scope(|scope| {
+            let (send, mut receive) = mpsc::sync_channel(1);
+            scope.spawn(move || send.send(run()));
+            let raised = match wait_for(py, &mut receive) {
+                Ok(Some(csv)) => return Ok(csv),
+                // The sweep panicked: the scope raises it again when it ends.
+                Ok(None) => return Ok(String::new()),
+                Err(raised) => raised,
+            };
+            interrupted.store(true, Ordering::Relaxed);
+            if let Ok(csv) = py.detach(move || receive.recv()) {
+                raised.value(py).setattr("_partial_csv", csv)?;
+            }
+            Err(raised)
+        })
+    })
 }

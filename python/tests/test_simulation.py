@@ -125,22 +125,6 @@ def test_state_arrays_are_copies(robbit):
     assert sim.q[1] == 0.1
 
 
-def test_set_state_restarts_there(robbit):
-    sim = hopsim.Simulation(robbit)
-    sim.step(100)
-    t, q, u = sim.state
-    sim.step(100)
-    after = sim.q
-    sim.set_state(q, u, t)
-    assert sim.t == t and sim.step_count == 0
-    np.testing.assert_array_equal(sim.q, q)
-    with pytest.raises(ValueError):
-        sim.set_state([0.0, 0.1], u)
-    with pytest.raises(ValueError):
-        sim.set_state(q, np.full(4, np.nan))
-    assert not np.array_equal(after, q)
-
-
 def test_standing_contact_carries_the_weight(robbit):
     """Passive Robbit at rest on the ground: one stick contact whose normal percussion
     over a step is the weight times the step (m g Δt)."""

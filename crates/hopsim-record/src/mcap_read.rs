@@ -1,10 +1,12 @@
 //! Reads a hopsim MCAP recording back: the run's description, the scene file, the states,
-//! the contact-impulse trace and the events (for `hopsim compare` and for tests).
+//! the contact-impulse trace, the events and, for a run that stopped early, its stop record
+//! (for `hopsim compare`, the Python package and tests).
 
 use crate::mcap_format::{
     Channel, ContactsIn, StateIn, MESSAGE_ENCODING, METADATA_NAME, SCENE_MEDIA_TYPE,
+    STOP_METADATA_NAME,
 };
-use crate::{Event, EventKind, RecordError};
+use crate::{Event, EventKind, RecordError, Stop};
 use hopsim_step::{ImpulseSample, ImpulseTrace};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::{MessageStream, Summary};
@@ -73,6 +75,9 @@ pub struct McapRecording {
     pub impulses: ImpulseTrace,
     /// Every event, in file (time) order.
     pub events: Vec<Event>,
+    /// Why the run stopped early, for a recording kept after the stop
+    /// (`FILE.partial.mcap`, its [`STOP_METADATA_NAME`] record); `None` for a complete run.
+    pub stop: Option<Stop>,
 }
 
 impl McapRecording {
@@ -115,12 +120,14 @@ impl McapRecording {
             }
         }
         let scene = read_scene(bytes, &summary, &metadata.scene_file).map_err(fail)?;
+        let stop = read_stop(bytes, &summary).map_err(fail)?;
         let mut recording = Self {
             metadata,
             scene,
             states: Vec::new(),
             impulses: ImpulseTrace::default(),
             events: Vec::new(),
+            stop,
         };
         let options = mcap::read::Options::ValidateChunkCrcs.into();
         let stream = MessageStream::new_with_options(bytes, options)
@@ -276,40 +283,77 @@ fn ordered(
 }
 
 fn read_metadata(bytes: &[u8], summary: &Summary) -> Result<RecordingMetadata, String> {
-    let index = summary
-        .metadata_indexes
-        .iter()
-        .find(|m| m.name == METADATA_NAME)
-        .ok_or_else(|| format!("not a hopsim recording (no '{METADATA_NAME}' metadata record)"))?;
-    let record = mcap::read::metadata(bytes, index)
-        .map_err(|e| format!("unreadable '{METADATA_NAME}' metadata record: {e}"))?;
-    let field = |key: &str| {
-        record
-            .metadata
-            .get(key)
-            .cloned()
-            .ok_or_else(|| format!("the '{METADATA_NAME}' metadata record has no '{key}'"))
-    };
+    let name = METADATA_NAME;
+    let record = metadata_record(bytes, summary, name)?
+        .ok_or_else(|| format!("not a hopsim recording (no '{name}' metadata record)"))?;
+    let field = |key: &str| metadata_field(&record, name, key).map(str::to_string);
     let list = |key: &str| {
         let text = field(key)?;
-        serde_json::from_str::<Vec<String>>(&text).map_err(|e| {
-            format!("'{METADATA_NAME}' metadata '{key}' is not a JSON list of names: {e}")
-        })
+        serde_json::from_str::<Vec<String>>(&text)
+            .map_err(|e| format!("'{name}' metadata '{key}' is not a JSON list of names: {e}"))
     };
-    let dt = field("dt_s")?;
     Ok(RecordingMetadata {
         scene: field("scene")?,
         scene_path: field("scene_path")?,
         scene_file: field("scene_file")?,
-        dt: dt
-            .parse()
-            .map_err(|_| format!("'{METADATA_NAME}' metadata 'dt_s' = '{dt}' is not a number"))?,
+        dt: metadata_number(&record, name, "dt_s", "a number")?,
         coordinates: list("coordinates")?,
         bodies: list("bodies")?,
         contacts: list("contacts")?,
         springs: list("springs")?,
         hopsim_version: field("hopsim_version")?,
     })
+}
+
+/// The [`STOP_METADATA_NAME`] record (`reason`, `step`, `t_s`), if the recording has one.
+fn read_stop(bytes: &[u8], summary: &Summary) -> Result<Option<Stop>, String> {
+    let name = STOP_METADATA_NAME;
+    let Some(record) = metadata_record(bytes, summary, name)? else {
+        return Ok(None);
+    };
+    Ok(Some(Stop {
+        reason: metadata_field(&record, name, "reason")?.to_string(),
+        step: metadata_number(&record, name, "step", "a step number")?,
+        t: metadata_number(&record, name, "t_s", "a number")?,
+    }))
+}
+
+/// The key–value pairs of the metadata record `name`, if the recording has one.
+fn metadata_record(
+    bytes: &[u8],
+    summary: &Summary,
+    name: &str,
+) -> Result<Option<BTreeMap<String, String>>, String> {
+    let Some(index) = summary.metadata_indexes.iter().find(|m| m.name == name) else {
+        return Ok(None);
+    };
+    let record = mcap::read::metadata(bytes, index)
+        .map_err(|e| format!("unreadable '{name}' metadata record: {e}"))?;
+    Ok(Some(record.metadata))
+}
+
+/// The value of `key` in the metadata record `name`.
+fn metadata_field<'r>(
+    record: &'r BTreeMap<String, String>,
+    name: &str,
+    key: &str,
+) -> Result<&'r str, String> {
+    record
+        .get(key)
+        .map(String::as_str)
+        .ok_or_else(|| format!("the '{name}' metadata record has no '{key}'"))
+}
+
+/// The value of `key` in the metadata record `name`, parsed as `what`.
+fn metadata_number<T: std::str::FromStr>(
+    record: &BTreeMap<String, String>,
+    name: &str,
+    key: &str,
+    what: &str,
+) -> Result<T, String> {
+    let text = metadata_field(record, name, key)?;
+    text.parse()
+        .map_err(|_| format!("'{name}' metadata '{key}' = '{text}' is not {what}"))
 }
 
 fn read_scene(

@@ -265,6 +265,7 @@ fn the_reader_returns_states_impulses_events_and_scene() {
     assert_eq!(rec.metadata.bodies, ["disc", "flywheel"]);
     assert_eq!(rec.metadata.contacts, info().contacts);
     assert_eq!(rec.metadata.dt, 2e-4);
+    assert_eq!(rec.stop, None, "a complete recording has no stop record");
     let scene = rec.scene.as_ref().unwrap();
     assert_eq!(
         (scene.name.as_str(), scene.text.as_str()),

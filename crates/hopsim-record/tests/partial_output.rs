@@ -55,6 +55,11 @@ fn a_stopped_run_keeps_every_recording_under_its_partial_name() {
 
     let rec = McapRecording::read(&p("run.partial.mcap")).unwrap();
     assert_eq!(rec.states.len(), frames.len());
+    assert_eq!(
+        rec.stop.as_ref(),
+        Some(&stop),
+        "the reader gives the stop record back"
+    );
     let bytes = std::fs::read(p("run.partial.mcap")).unwrap();
     let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
     let index = summary

@@ -74,7 +74,7 @@ impl Num {
     }
 
     /// `None` when `v` is accepted, else what was expected.
-    fn check(&self, v: f64) -> Option<String> {
+    pub(crate) fn check(&self, v: f64) -> Option<String> {
         let ok = v.is_finite()
             && match self.rule {
                 Rule::Finite => true,

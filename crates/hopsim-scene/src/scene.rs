@@ -6,9 +6,9 @@ use crate::controller::read_controller;
 use crate::environment::read_environment;
 use crate::error::{SceneError, Source};
 use crate::overrides::{apply, Override};
-use crate::reader::{Num, Table};
+use crate::reader::Table;
 use crate::settings::{read_meta, read_settings, Meta, Settings};
-use crate::start::{check_start, StartProblem, PENETRATION_TOL};
+use crate::start::{check_start, velocity, StartProblem, COORDINATE, PENETRATION_TOL};
 use crate::tree::Node;
 use hopsim_control::ControllerConfig;
 use hopsim_model::{Kinematics, Model, ModelError, Vec2};
@@ -206,12 +206,11 @@ fn read_initial(
     let n = model.dof();
     let names = coordinates.join(", ");
     let mut q = init
-        .opt_f64_list("q", Some(n), Num::any("m or rad").coordinate())?
+        .opt_f64_list("q", Some(n), COORDINATE)?
         .ok_or_else(|| init.error_at_key("q", format!("missing; expected {n} values ({names})")))
         .map(DVector::from_vec)?;
-    // A start faster than `simulation.max_speed` would stop the run as a runaway at once.
     let u = init
-        .opt_f64_list("u", Some(n), Num::any("m/s or rad/s").at_most(max_speed))?
+        .opt_f64_list("u", Some(n), velocity(max_speed))?
         .map_or_else(|| DVector::zeros(n), DVector::from_vec);
     let rest = init.bool_or("rest_on_ground", false)?;
     let mut ws = Kinematics::new(model);

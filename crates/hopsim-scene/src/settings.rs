@@ -38,6 +38,8 @@ pub struct Settings {
     pub warm_start: bool,
     /// A generalised velocity above this stops the run as a runaway state (m/s or rad/s).
     pub max_speed: f64,
+    /// The most steps one run may take (`simulation.max_steps`, [`check_steps`]).
+    pub max_steps: u64,
 }
 
 pub(crate) fn read_meta(meta: Option<Table<'_>>, default_title: &str) -> Result<Meta, SceneError> {
@@ -76,18 +78,13 @@ pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Sett
         DEFAULT_MAX_STEPS,
         Num::positive("steps").at_least(1.0),
     )?;
-    let steps = (duration / dt).ceil();
-    if steps > max_steps {
+    if let Err(e) = check_steps(duration, dt, max_steps as u64) {
         return Err(sim.error_at_key(
             "duration",
             format!(
-                "{} s in steps of {} s is {} steps, more than simulation.max_steps = {}; \
-                 raise simulation.max_steps (e.g. --set simulation.max_steps={}) to run this long",
-                number(duration),
-                number(dt),
-                number(steps),
-                number(max_steps),
-                number(steps)
+                "{e}; raise simulation.max_steps (e.g. --set simulation.max_steps={}) to run \
+                 this long",
+                number(e.steps)
             ),
         ));
     }
@@ -126,5 +123,49 @@ pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Sett
         strict: sim.bool_or("strict", false)?,
         warm_start: sim.bool_or("warm_start", true)?,
         max_speed: sim.f64_or("max_speed", 1e4, Num::positive("m/s or rad/s"))?,
+        max_steps: max_steps as u64,
     })
+}
+
+/// A run longer than `simulation.max_steps` allows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TooManySteps {
+    /// The run's duration, s.
+    pub duration: f64,
+    /// The step size, s.
+    pub dt: f64,
+    /// The steps it would take (`round(duration / dt)`).
+    pub steps: f64,
+    /// `simulation.max_steps`.
+    pub max_steps: u64,
+}
+
+impl std::fmt::Display for TooManySteps {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} s in steps of {} s is {} steps, more than simulation.max_steps = {}",
+            number(self.duration),
+            number(self.dt),
+            number(self.steps),
+            self.max_steps
+        )
+    }
+}
+
+/// Whether a run of `duration` s in steps of `dt` s, `round(duration / dt)` steps as
+/// `hopsim_sim::run_for` takes them, stays within `max_steps` steps: the bound of every run,
+/// whether a scene file, `--duration` or a front end asks for it.
+pub fn check_steps(duration: f64, dt: f64, max_steps: u64) -> Result<(), TooManySteps> {
+    let steps = (duration / dt).round();
+    // NaN compares false: a non-finite duration is refused before it gets here.
+    if steps > max_steps as f64 {
+        return Err(TooManySteps {
+            duration,
+            dt,
+            steps,
+            max_steps,
+        });
+    }
+    Ok(())
 }

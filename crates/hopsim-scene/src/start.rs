@@ -1,8 +1,13 @@
-//! Checks of a start state against its model (docs/scene-format.md, `[initial]`): no shape
-//! inside the terrain, no two shapes that can touch overlapping (complete overlaps
-//! included), no joint past one of its stops. Shared by the scene reader and by every
-//! front end that sets a state (the Python package's `set_state`).
+//! Checks of a start state against its scene (docs/scene-format.md, `[initial]`): its
+//! values ([`check_state`]: one per coordinate, finite, within the scene's bounds) and its
+//! geometry ([`check_start`]: no shape inside the terrain, no two shapes that can touch
+//! overlapping, complete overlaps included, no joint past one of its stops). Shared by the
+//! scene reader and by every front end that sets a state (`Simulation::set_state`, the
+//! Python package's `set_state`).
 
+use crate::error::number;
+use crate::reader::{Num, MAX_MAGNITUDE};
+use crate::Scene;
 use hopsim_model::{Kinematics, Model, Shape, Vec2};
 use hopsim_step::State;
 use parry2d_f64::math::{Pose, Vector};
@@ -16,6 +21,95 @@ pub const PENETRATION_TOL: f64 = 1e-9;
 /// Overlaps of the solids (parry2d's depth, to about 1e-7 m for polygons, and ellipses and
 /// arcs as inscribed polygons) beyond this are refused, m.
 const SOLID_OVERLAP_TOL: f64 = 1e-6;
+
+/// The bound of each generalised coordinate of a state, m or rad (`[initial] q`).
+pub(crate) const COORDINATE: Num = Num::any("m or rad").coordinate();
+
+/// The bound of each generalised velocity of a state (`[initial] u`): a start faster than
+/// `simulation.max_speed` would stop the run as a runaway at once.
+pub(crate) const fn velocity(max_speed: f64) -> Num {
+    Num::any("m/s or rad/s").at_most(max_speed)
+}
+
+/// The bound of a state's time, s (the magnitude of any number of a scene).
+const TIME: Num = Num::any("s").at_most(MAX_MAGNITUDE);
+
+/// What is wrong with the values of a state given for a scene, or with its start.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StateProblem {
+    /// `q` and `u` do not hold one entry per generalised coordinate.
+    Size {
+        coordinates: Vec<String>,
+        q: usize,
+        u: usize,
+    },
+    /// `name` (`t`, `q[i] (x)`, `u[i] (x)`) is `value`; `expected` says what it must be.
+    Value {
+        name: String,
+        value: f64,
+        expected: String,
+    },
+    /// The geometry of the start ([`check_start`]).
+    Start(StartProblem),
+}
+
+impl std::fmt::Display for StateProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StateProblem::Size { coordinates, q, u } => write!(
+                f,
+                "q and u must have {} entries ({}), got {q} and {u}",
+                coordinates.len(),
+                coordinates.join(", ")
+            ),
+            StateProblem::Value {
+                name,
+                value,
+                expected,
+            } => write!(f, "{name} = {}: expected {expected}", number(*value)),
+            StateProblem::Start(problem) => problem.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for StateProblem {}
+
+impl From<StartProblem> for StateProblem {
+    fn from(problem: StartProblem) -> Self {
+        StateProblem::Start(problem)
+    }
+}
+
+/// Checks the values of `state` for `scene` as the scene reader checks `[initial]`: one
+/// entry of `q` and `u` per coordinate, each finite, `|q_i| ≤` [`crate::MAX_COORDINATE`],
+/// `|u_i| ≤ simulation.max_speed`, and `|t| ≤` [`MAX_MAGNITUDE`] s. The geometry is
+/// [`check_start`]'s.
+pub fn check_state(scene: &Scene, state: &State) -> Result<(), StateProblem> {
+    let names = &scene.coordinates;
+    let (q, u) = (state.q.as_slice(), state.u.as_slice());
+    if q.len() != names.len() || u.len() != names.len() {
+        return Err(StateProblem::Size {
+            coordinates: names.clone(),
+            q: q.len(),
+            u: u.len(),
+        });
+    }
+    let check = |name: &dyn Fn() -> String, value: f64, num: Num| match num.check(value) {
+        None => Ok(()),
+        Some(expected) => Err(StateProblem::Value {
+            name: name(),
+            value,
+            expected,
+        }),
+    };
+    check(&|| "t".into(), state.t, TIME)?;
+    let speed = velocity(scene.settings.max_speed);
+    for (i, name) in names.iter().enumerate() {
+        check(&|| format!("q[{i}] ({name})"), q[i], COORDINATE)?;
+        check(&|| format!("u[{i}] ({name})"), u[i], speed)?;
+    }
+    Ok(())
+}
 
 /// What is wrong with a start state.
 #[derive(Clone, Debug, PartialEq)]

@@ -338,6 +338,67 @@ fn states_and_parameters_that_would_overflow_are_rejected_at_the_override() {
     assert_eq!(s.initial.q[0], 1e5);
 }
 
+/// `check_state` holds a state set after loading to the bounds the reader holds
+/// `[initial]` to: what an override cannot start from, no state can be set to.
+#[test]
+fn a_state_set_later_is_checked_as_a_start_is() {
+    use hopsim_scene::{check_state, StateProblem};
+    let scene = robbit(&[]).unwrap();
+    let with = |q1: f64, u3: f64, t: f64| {
+        let mut state = scene.initial.clone();
+        (state.q[1], state.u[3], state.t) = (q1, u3, t);
+        check_state(&scene, &state)
+    };
+    let y = scene.initial.q[1];
+    for (q1, u3, t, set) in [
+        (1e308, 0.0, 0.0, "initial.q.1=1e308"),
+        (f64::NAN, 0.0, 0.0, "initial.q.1=nan"),
+        (y, 1e5, 0.0, "initial.u.3=1e5"),
+    ] {
+        let Err(StateProblem::Value { expected, .. }) = with(q1, u3, t) else {
+            panic!("{set}: accepted");
+        };
+        let loader = robbit_error(&[set]);
+        assert!(loader.contains(&format!("expected {expected}")), "{loader}");
+    }
+    let Err(StateProblem::Value { name, .. }) = with(y, 0.0, -1e300) else {
+        panic!("t = -1e300 accepted");
+    };
+    assert_eq!(name, "t");
+    assert_eq!(
+        with(y, 0.0, f64::INFINITY).unwrap_err().to_string(),
+        "t = inf: expected a finite number in s"
+    );
+    // The largest values a scene accepts, accepted.
+    assert_eq!(with(1e5, 9999.0, 1e9), Ok(()));
+    let mut short = scene.initial.clone();
+    short.q = short.q.rows(0, 3).into_owned();
+    assert_eq!(
+        check_state(&scene, &short).unwrap_err().to_string(),
+        "q and u must have 4 entries (x, y, phi, psi), got 3 and 4"
+    );
+}
+
+/// A run is bounded by the steps it takes, `round(duration / dt)`: ten steps of 0.3 ms
+/// (0.003 / 3e-4 = 10.000000000000002 in floating point) fit `max_steps = 10`.
+#[test]
+fn max_steps_bounds_the_steps_a_run_takes() {
+    let set = |max: &str| {
+        robbit(&[
+            "simulation.dt=3e-4",
+            "simulation.duration=0.003",
+            &format!("simulation.max_steps={max}"),
+        ])
+    };
+    assert_eq!(set("10").unwrap().settings.max_steps, 10);
+    let e = set("9").unwrap_err();
+    assert!(
+        e.contains("0.003 s in steps of 0.0003 s is 10 steps, more than simulation.max_steps = 9"),
+        "{e}"
+    );
+    assert_eq!(hopsim_scene::check_steps(0.003, 3e-4, 10), Ok(()));
+}
+
 #[test]
 fn a_default_speed_window_never_falls_below_a_step() {
     // No [summary]: the window defaults to half the run, but never less than a step.

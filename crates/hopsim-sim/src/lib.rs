@@ -22,7 +22,7 @@ mod sweep;
 
 pub use error::{panic_message, RunError};
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
-pub use observer::{Observer, StepView};
+pub use observer::{Observer, StepView, StopFlag};
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
 pub use run::{run, run_for};

@@ -4,6 +4,7 @@ use crate::RunError;
 use hopsim_model::{Kinematics, Model};
 use hopsim_record::Event;
 use hopsim_step::{State, StepRecord};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// One finished step, as observers see it.
 pub struct StepView<'a> {
@@ -73,5 +74,18 @@ impl<O: Observer> Observer for Option<O> {
 
     fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
         self.as_mut().map_or(Ok(()), |o| o.on_start(view))
+    }
+}
+
+/// Stops a run with [`RunError::Interrupted`] at the first step after its flag is set (by
+/// another thread: a front end that saw Ctrl-C, for the runs of a sweep).
+pub struct StopFlag<'a>(pub &'a AtomicBool);
+
+impl Observer for StopFlag<'_> {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        if self.0.load(Ordering::Relaxed) {
+            return Err(RunError::Interrupted { t: view.state.t });
+        }
+        Ok(())
     }
 }

@@ -3,7 +3,7 @@
 use crate::{panic_message, FlightEvent, FlightTracker, Observer, RunError, StepView};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{recorded_time, Event, EventKind};
-use hopsim_scene::Scene;
+use hopsim_scene::{Scene, StateProblem};
 use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, StepRecord, Stepper};
 use std::ops::Deref;
 use std::sync::Arc;
@@ -132,14 +132,28 @@ impl<'s> Simulation<'s> {
 
     /// Restarts the run at `state` (time, `q`, `u`): the stepper starts anew there (its
     /// step count, energy ledger and LCP statistics restart), flight phases are counted
-    /// afresh; the controller and the shapes switched on stay as they are. `state` must
-    /// have the scene's number of coordinates (a wrong size panics).
-    pub fn set_state(&mut self, state: State) {
-        let n = self.scene.coordinates.len();
-        assert!(
-            state.q.len() == n && state.u.len() == n,
-            "set_state: q and u must have {n} entries"
-        );
+    /// afresh; the controller and the shapes switched on stay as they are. `state` is
+    /// checked as a scene's `[initial]` is: its values ([`hopsim_scene::check_state`]) and
+    /// its geometry ([`hopsim_scene::check_start`]: no active shape inside the terrain or
+    /// another body, no joint past a stop). On an error nothing changes.
+    pub fn set_state(&mut self, state: State) -> Result<(), StateProblem> {
+        hopsim_scene::check_state(&self.scene, &state)?;
+        let inactive: Vec<bool> = self.shapes_active.iter().map(|a| !a).collect();
+        hopsim_scene::check_start(&self.scene.model, &state, &inactive)?;
+        self.restart_at(state);
+        Ok(())
+    }
+
+    /// [`Simulation::set_state`] for a state a simulation of the scene reached: only its
+    /// values are checked, since the time-stepping leaves contacts and stops in load
+    /// slightly penetrated (no position correction, docs/physics.md §4.6).
+    pub fn restore_state(&mut self, state: State) -> Result<(), StateProblem> {
+        hopsim_scene::check_state(&self.scene, &state)?;
+        self.restart_at(state);
+        Ok(())
+    }
+
+    fn restart_at(&mut self, state: State) {
         self.state = state;
         self.stepper.start(&self.scene.model, &self.state);
         self.actuation.clear();

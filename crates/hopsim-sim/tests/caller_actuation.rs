@@ -1,13 +1,16 @@
 //! A simulation driven from outside the scene's controller (the Python package's
 //! `Simulation`): a shared scene, a caller's actuation in place of the controller,
-//! restarting at a state, and a run continued span by span.
+//! restarting at a state (checked as a scene's start is), a run continued span by span,
+//! and a run stopped from another thread.
 
 mod common;
 
 use common::scene;
 use hopsim_control::ControlEvent;
 use hopsim_record::EventKind;
-use hopsim_sim::{run_for, Observer, RunError, Simulation, StepView};
+use hopsim_scene::{StartProblem, StateProblem};
+use hopsim_sim::{run_for, Observer, RunError, Simulation, StepView, StopFlag};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// The events of the last step seen.
@@ -86,18 +89,81 @@ fn set_state_continues_from_the_given_state() {
     let mut state = scene.initial.clone();
     state.u[0] = 0.3; // rolling forward
     state.u[2] = -1.5;
-    kicked.set_state(state);
+    kicked.set_state(state).unwrap();
     for _ in 0..500 {
         kicked.step(&mut ()).unwrap();
     }
     let mut restarted = Simulation::new(&scene);
-    restarted.set_state(kicked.state().clone());
+    restarted.restore_state(kicked.state().clone()).unwrap();
     assert_eq!(restarted.stepper().record().step, 0);
     for _ in 0..500 {
         kicked.step(&mut ()).unwrap();
         restarted.step(&mut ()).unwrap();
     }
     assert_eq!(restarted.state(), kicked.state());
+}
+
+/// `set_state` refuses what a scene's `[initial]` refuses, and changes nothing then: a
+/// value out of bounds, a start in the ground (with its depth) or past a stop.
+/// `restore_state` takes a state the run reached, in load with a slight penetration.
+#[test]
+fn set_state_checks_the_state_as_a_start() {
+    let robbit = scene("robbit.toml", &[]);
+    let mut sim = Simulation::new(&robbit);
+    let mut state = robbit.initial.clone();
+    state.q[1] = 1e300;
+    assert!(matches!(
+        sim.set_state(state.clone()),
+        Err(StateProblem::Value { .. })
+    ));
+    assert!(matches!(
+        sim.restore_state(state),
+        Err(StateProblem::Value { .. })
+    ));
+    let mut lowered = robbit.initial.clone();
+    lowered.q[1] -= 0.01;
+    match sim.set_state(lowered.clone()) {
+        // Lowered 1 cm from resting on the ground: 1 cm deep.
+        Err(StateProblem::Start(StartProblem::InTerrain { depth, .. })) => {
+            assert!((depth - 0.01).abs() < 1e-9, "{depth}")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        sim.state(),
+        &robbit.initial,
+        "a refused state changes nothing"
+    );
+    sim.restore_state(lowered.clone()).unwrap();
+    assert_eq!(sim.state(), &lowered);
+
+    let pendulum = scene("classic/pendulum-stop.toml", &[]);
+    let mut sim = Simulation::new(&pendulum);
+    let mut past = pendulum.initial.clone();
+    past.q[0] = -0.25;
+    match sim.set_state(past) {
+        Err(StateProblem::Start(StartProblem::PastStop { depth, upper, .. })) => {
+            assert!(!upper && (depth - 0.25).abs() < 1e-12, "{depth}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// A run whose stop flag is set (by another thread) stops at its next step.
+#[test]
+fn a_stop_flag_stops_a_run_at_the_next_step() {
+    let scene = scene("robbit.toml", &[]);
+    let mut sim = Simulation::new(&scene);
+    let flag = AtomicBool::new(true);
+    let stopped = run_for(&mut sim, 1.0, &mut StopFlag(&flag));
+    let dt = scene.settings.dt;
+    assert!(
+        matches!(stopped, Err(RunError::Interrupted { t }) if t == dt),
+        "{stopped:?}"
+    );
+    assert_eq!(sim.stepper().record().step, 1);
+    flag.store(false, std::sync::atomic::Ordering::Relaxed);
+    run_for(&mut sim, 0.01, &mut StopFlag(&flag)).unwrap();
 }
 
 /// A run continued in two spans ends where one run of the whole length ends, and each

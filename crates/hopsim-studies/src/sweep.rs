@@ -13,10 +13,11 @@ use hopsim_control::ControllerConfig;
 use hopsim_io::{Cell, CsvTable};
 use hopsim_model::Shape;
 use hopsim_scene::{axis_label, key_words, value_label, Override, Scene, SceneError};
-use hopsim_sim::{grid_jobs, GridAxis, SweepJob, SweepPoint};
+use hopsim_sim::{grid_jobs, GridAxis, StopFlag, SweepJob, SweepPoint};
 use serde::Serialize;
 use std::fmt::Write;
 use std::ops::Range;
+use std::sync::atomic::AtomicBool;
 
 /// What a run-summary figure measures, for its axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -258,6 +259,7 @@ pub struct Sweep<'a> {
     base: Vec<Override>,
     params: SweepParams,
     jobs: Vec<SweepJob>,
+    stop: Option<&'a AtomicBool>,
 }
 
 impl<'a> Sweep<'a> {
@@ -323,7 +325,15 @@ impl<'a> Sweep<'a> {
             base: base.to_vec(),
             params,
             jobs,
+            stop: None,
         })
+    }
+
+    /// Once `stop` is set (by another thread), every run stops at its next step, and the
+    /// runs not yet started stop at their first: their rows are errors saying so.
+    pub fn stopped_by(mut self, stop: &'a AtomicBool) -> Self {
+        self.stop = Some(stop);
+        self
     }
 
     /// The number of runs: the grid's points, then the baselines.
@@ -352,7 +362,7 @@ impl<'a> Sweep<'a> {
             &scene.text,
             &self.base,
             &self.jobs,
-            |s| run_scene(s, &mut ()),
+            |s| run_scene(s, &mut self.stop.map(StopFlag)),
             &*tick,
         );
         drop(tick);

@@ -228,3 +228,24 @@ fn a_robot_hopping_in_place_plots_what_varies_and_no_round_off() {
     let report = Sweep::new(&guided, &base, p).unwrap().run(&Silent);
     assert_eq!(report.figure().x_label, "motor force F (N)");
 }
+
+/// A sweep whose stop flag is set stops every run at its next step: each is a row with
+/// its error, and the table is complete.
+#[test]
+fn a_stopped_sweep_still_has_a_row_per_run() {
+    let (scene, base) = robbit("0.1");
+    let stop = std::sync::atomic::AtomicBool::new(true);
+    let sweep = Sweep::new(&scene, &base, params(&["controller.torque=0.1,0.2"], &[]))
+        .unwrap()
+        .stopped_by(&stop);
+    let report = sweep.run(&Silent);
+    assert_eq!(report.runs.len(), 2);
+    for run in &report.runs {
+        assert!(run.summary.is_none());
+        assert_eq!(
+            run.error.as_deref(),
+            Some("interrupted at t = 0.000200 s"),
+            "the first step of 0.2 ms"
+        );
+    }
+}
