@@ -37,3 +37,7 @@ lint:
 # Everything CI does
 ci:
     bash .ci/run
+
+# Generated mechanisms, a long campaign (docs/reliability.md, "Generated mechanisms")
+fuzz cases="200000":
+    HOPSIM_GEN_CASES={{cases}} cargo test --release -p hopsim-gen --test generated_mechanisms

@@ -173,7 +173,7 @@ impl Observer for Checker {
             self.contact(view, c, true);
         }
         if !record.lcp_failed {
-            for l in &record.limits {
+            for l in record.limits.iter().filter(|l| !l.locked) {
                 let e = view.model.limits[l.limit].restitution;
                 let xi = l.velocity_after + e * l.velocity_before;
                 if l.impulse < 0.0 || xi < -tol || (l.impulse > 0.0 && xi > tol) {

@@ -125,6 +125,9 @@ pub struct LimitRecord {
     pub velocity_after: f64,
     /// Percussion `Λ_J` (≥ 0), N m s or N s.
     pub impulse: f64,
+    /// Whether the step's velocity locks (a brake on this joint) fixed its velocity, so
+    /// that it took no percussion whatever its restitution asked (docs/physics.md §4.4).
+    pub locked: bool,
 }
 
 /// Running energy account of a simulation (docs/physics.md §6), J.

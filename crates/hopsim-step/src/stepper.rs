@@ -176,6 +176,10 @@ pub struct Stepper {
     w_limit: Vec<f64>,
     gamma_limit: Vec<f64>,
     lambda_limit: Vec<f64>,
+    /// `w G w` of each closed stop before the locks' projection (with locks only), and
+    /// whether the locks fix its velocity in this step.
+    limit_mobility: Vec<f64>,
+    limit_locked: Vec<bool>,
     lcp_a: DMatrix<f64>,
     lcp_b: DVector<f64>,
     lcp: LemkeSolver,
@@ -255,6 +259,8 @@ impl Stepper {
             w_limit: vector(limits * n),
             gamma_limit: vector(limits),
             lambda_limit: vector(limits),
+            limit_mobility: vector(limits),
+            limit_locked: vec![false; limits],
             lcp_a: DMatrix::zeros(3 * k + limits, 3 * k + limits),
             lcp_b: DVector::zeros(3 * k + limits),
             record: StepRecord {
@@ -638,6 +644,12 @@ impl Stepper {
         }
         self.factor.solve_sized::<N>(solved);
         if self.locks.count > 0 {
+            // The stops' mobility `w G w` before the locks, to tell a stop whose velocity
+            // they fix (see `limit_rows`).
+            let stops = &solved[(2 * k + 1) * n..];
+            for (r, row) in stops.chunks_exact(n).enumerate() {
+                self.limit_mobility[r] = dot(&self.w_limit[r * n..(r + 1) * n], row);
+            }
             for row in solved[n..].chunks_exact_mut(n) {
                 self.locks.project(row);
             }
@@ -818,6 +830,15 @@ impl Stepper {
             }
             let restitution = model.limits[self.active_limits[r]].restitution;
             b[off + r] = dot(w_j, &self.u_tilde) + restitution * self.gamma_limit[r];
+            // A stop whose velocity this step's locks fix (a braked joint: its mobility
+            // gone with the projection) cannot move it: it takes no percussion, whatever its
+            // restitution asks (docs/physics.md §4.4).
+            let own = a[(off + r) * ld + off + r];
+            self.limit_locked[r] =
+                self.locks.count > 0 && own <= DEPENDENT_ROWS * self.limit_mobility[r];
+            if self.limit_locked[r] {
+                b[off + r] = b[off + r].max(0.0);
+            }
         }
     }
 
@@ -922,6 +943,7 @@ impl Stepper {
                 velocity_before: self.gamma_limit[r],
                 velocity_after: dot(row(&self.w_limit, n, r), &self.u_end),
                 impulse: self.lambda_limit[r],
+                locked: self.limit_locked[r],
             });
         }
     }
