@@ -84,7 +84,7 @@ impl Checker {
         let (tol, impulse_tol) = tolerances(view.record.resolution);
         let step = view.record.step;
         let (material, name) = if pair {
-            let i = view.model.contacts.len() + c.contact;
+            let i = view.model.contacts().len() + c.contact;
             (view.model.material(i), view.model.contact_name(i))
         } else {
             (
@@ -174,14 +174,15 @@ impl Observer for Checker {
         }
         if !record.lcp_failed {
             for l in record.limits.iter().filter(|l| !l.locked) {
-                let e = view.model.limits[l.limit].restitution;
+                let e = view.model.limits()[l.limit].restitution;
                 let xi = l.velocity_after + e * l.velocity_before;
                 if l.impulse < 0.0 || xi < -tol || (l.impulse > 0.0 && xi > tol) {
                     self.fail(
                         record.step,
                         format!(
                             "stop {}: Λ = {:e} with ξ = {xi:e}",
-                            view.model.limits[l.limit].name, l.impulse
+                            view.model.limits()[l.limit].name,
+                            l.impulse
                         ),
                     );
                 }

@@ -127,7 +127,7 @@ pub struct Stepper {
     /// `M(q^M)`, row-major `n × n`, and its `L D Lᵀ` factor.
     mass: Vec<f64>,
     factor: Factor,
-    /// `M` and its factor are those of every `q` (see [`Kinematics::jacobian_is_constant`])
+    /// `M` and its factor are those of every `q` (see [`Model::jacobian_is_constant`])
     /// and already built: stage 2 keeps them.
     mass_fixed: bool,
     h: Vec<f64>,
@@ -197,14 +197,14 @@ impl Stepper {
     pub fn new(model: &Model, settings: StepSettings) -> Self {
         let n = model.dof();
         let k = model.contact_count();
-        let limits = model.limits.len();
-        let locks = model.bodies.len();
+        let limits = model.limits().len();
+        let locks = model.bodies().len();
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
         let kinematics = Kinematics::new(model);
         let dampers = model.damper_capacity();
         // `M + Δt/2 C` is diagonal only without dampers.
-        let diagonal = kinematics.mass_matrix_is_diagonal() && dampers == 0;
+        let diagonal = model.mass_matrix_is_diagonal() && dampers == 0;
         lcp.reserve(3 * k + limits);
         Self {
             lcp,
@@ -212,7 +212,7 @@ impl Stepper {
             settings,
             t_start: 0.0,
             enabled: vec![true; k],
-            world_pairs: (0..model.pairs.len())
+            world_pairs: (0..model.pairs().len())
                 .filter(|&p| model.pair_touches_world(p))
                 .collect(),
             kinematics,
@@ -265,7 +265,7 @@ impl Stepper {
             lcp_b: DVector::zeros(3 * k + limits),
             record: StepRecord {
                 contacts: Vec::with_capacity(k),
-                pair_contacts: Vec::with_capacity(model.pairs.len()),
+                pair_contacts: Vec::with_capacity(model.pairs().len()),
                 limits: Vec::with_capacity(limits),
                 locks: Vec::with_capacity(locks),
                 ..StepRecord::default()
@@ -350,7 +350,7 @@ impl Stepper {
     /// world (the terrain's and those with shapes of fixed bodies), in one pass.
     fn fill_gaps(&mut self, model: &Model) {
         let mut min_gap = f64::INFINITY;
-        for i in 0..model.contacts.len() {
+        for i in 0..model.contacts().len() {
             if self.enabled[i] {
                 if let Some(g) = model.contact_geometry(&self.kinematics, i) {
                     min_gap = min_gap.min(g.gap);
@@ -358,7 +358,7 @@ impl Stepper {
             }
         }
         for &p in &self.world_pairs {
-            if self.enabled[model.contacts.len() + p] {
+            if self.enabled[model.contacts().len() + p] {
                 if let Some(g) = model.pair_geometry(&self.kinematics, p) {
                     min_gap = min_gap.min(g.gap);
                 }
@@ -474,8 +474,7 @@ impl Stepper {
             if !self.factor.factor(&self.mass, self.n) {
                 return Err(StepError::SingularMassMatrix { step, t });
             }
-            self.mass_fixed =
-                self.kinematics.jacobian_is_constant() && model.damping_rows_follow_jacobian();
+            self.mass_fixed = model.jacobian_is_constant() && model.damping_rows_follow_jacobian();
         }
         let applied = &mut self.applied[..dof::<N>(self.n)];
         applied.fill(0.0);
@@ -561,7 +560,7 @@ impl Stepper {
         let n = dof::<N>(self.n);
         self.active.clear();
         self.geometry.clear();
-        for i in 0..model.contacts.len() {
+        for i in 0..model.contacts().len() {
             if !self.enabled[i] {
                 continue;
             }
@@ -582,11 +581,11 @@ impl Stepper {
             );
             self.close_contact::<N>(i, geom);
         }
-        if !model.pairs.is_empty() {
+        if !model.pairs().is_empty() {
             self.pair_index_set(model);
         }
         self.active_limits.clear();
-        for (j, limit) in model.limits.iter().enumerate() {
+        for (j, limit) in model.limits().iter().enumerate() {
             let gap = limit.gap(self.kinematics.joint_position(limit.body));
             if gap > 0.0 {
                 continue;
@@ -828,7 +827,7 @@ impl Stepper {
             for c in 0..l {
                 a[(off + c) * ld + off + r] = dot(w_j, row(&self.solved, n, 1 + 2 * k + c));
             }
-            let restitution = model.limits[self.active_limits[r]].restitution;
+            let restitution = model.limits()[self.active_limits[r]].restitution;
             b[off + r] = dot(w_j, &self.u_tilde) + restitution * self.gamma_limit[r];
             // A stop whose velocity this step's locks fix (a braked joint: its mobility
             // gone with the projection) cannot move it: it takes no percussion, whatever its
@@ -938,7 +937,7 @@ impl Stepper {
             let j = self.active_limits[r];
             self.record.limits.push(LimitRecord {
                 limit: j,
-                body: model.limits[j].body,
+                body: model.limits()[j].body,
                 gap: self.limit_gap[r],
                 velocity_before: self.gamma_limit[r],
                 velocity_after: dot(row(&self.w_limit, n, r), &self.u_end),
@@ -969,7 +968,7 @@ impl Stepper {
             let state = ContactState::classify(ln, lt, xi_t, self.friction[c], resolution);
             let geom = self.geometry[c];
             // Terrain contacts, then body–body contacts (numbered from 0 in their list).
-            let terrain = model.contacts.len();
+            let terrain = model.contacts().len();
             let (records, contact) = match self.active[c].checked_sub(terrain) {
                 Some(p) => (&mut self.record.pair_contacts, p),
                 None => (&mut self.record.contacts, self.active[c]),
