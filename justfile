@@ -40,4 +40,4 @@ ci:
 
 # Generated mechanisms, a long campaign (docs/reliability.md, "Generated mechanisms")
 fuzz cases="200000":
-    HOPSIM_GEN_CASES={{cases}} cargo test --release -p hopsim-gen --test generated_mechanisms
+    HOPSIM_GEN_CASES={{cases}} HOPSIM_GEN_SEED=random cargo test --release -p hopsim-gen --test generated_mechanisms

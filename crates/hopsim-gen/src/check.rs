@@ -32,6 +32,9 @@ pub struct RunFigures {
     pub lcp_failures: u64,
     /// Largest `|balance error|` of the energy account (docs/physics.md §6.1), J.
     pub max_balance_error: f64,
+    /// Largest signed balance error, J: energy the scheme added beyond what the account
+    /// explains (a negative error is energy the scheme lost).
+    pub max_balance_gain: f64,
     /// The run's energy scale: the largest `E_kin + |V − V_0| + V_s` and `|work|` seen, J.
     pub energy_scale: f64,
     /// Mechanical energy at the end minus at the start minus the actuators' work, J
@@ -190,17 +193,7 @@ impl Observer for Checker {
         }
         let e = &record.energy;
         let potential0 = *self.potential0.get_or_insert(e.potential);
-        let works = [
-            e.actuator_work,
-            e.contact_work,
-            e.limit_work,
-            e.lock_work,
-            e.damping_work,
-        ];
-        let scale = works.iter().fold(
-            e.kinetic + (e.potential - potential0).abs() + e.spring,
-            |m, w| m.max(w.abs()),
-        );
+        let scale = e.scale(potential0);
         if !scale.is_finite() {
             self.fail(record.step, format!("a non-finite energy account {e:?}"));
         }
@@ -209,6 +202,7 @@ impl Observer for Checker {
         f.lcp_failures += u64::from(record.lcp_failed);
         f.energy_scale = f.energy_scale.max(scale);
         f.max_balance_error = f.max_balance_error.max(e.balance_error().abs());
+        f.max_balance_gain = f.max_balance_gain.max(e.balance_error());
         f.energy_gain = e.total() - e.initial - e.actuator_work;
         f.max_damping_gain = f
             .max_damping_gain

@@ -687,7 +687,7 @@ impl Stepper {
         let ld = self.lcp_a.nrows();
         // Every entry of the `size × size` block is written once below (the zeros too), so
         // nothing is cleared first.
-        self.contact_friction::<N>(model, k);
+        let scale = self.contact_friction::<N>(model, k);
         let a = self.lcp_a.as_mut_slice();
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
@@ -705,12 +705,13 @@ impl Stepper {
                 a[(k + c) * ld + r] = g_nt;
                 a[c * ld + k + r] = g_tn - g_tt * mu_c;
                 a[(k + c) * ld + k + r] = g_tt;
-                // The rows and columns of `ξ_L`: only contact `r`'s own are non-zero.
+                // The rows and columns of `ξ_L`: only contact `r`'s own are non-zero, scaled
+                // by `s` (unknown `ξ_L / s`, row `s Λ_L`, docs/physics.md §4.3).
                 let own = r == c;
                 a[(2 * k + c) * ld + r] = 0.0;
-                a[(2 * k + c) * ld + k + r] = if own { 1.0 } else { 0.0 };
-                a[c * ld + 2 * k + r] = if own { 2.0 * mu_r } else { 0.0 };
-                a[(k + c) * ld + 2 * k + r] = if own { -1.0 } else { 0.0 };
+                a[(2 * k + c) * ld + k + r] = if own { scale } else { 0.0 };
+                a[c * ld + 2 * k + r] = if own { 2.0 * mu_r * scale } else { 0.0 };
+                a[(k + c) * ld + 2 * k + r] = if own { -scale } else { 0.0 };
                 a[(2 * k + c) * ld + 2 * k + r] = 0.0;
             }
             b[r] = dot(w_n, &self.u_tilde[..n]) + mat_r.restitution_normal * self.gamma_n[r];
@@ -741,7 +742,7 @@ impl Stepper {
         self.record.lcp_pivots = solution.pivots;
         self.record.resolution = Resolution {
             velocity: solution.certificate.tolerance,
-            impulse: impulse_resolution(&solution.certificate),
+            impulse: impulse_resolution(&solution.certificate, scale),
         };
         if solution.status == LcpStatus::Solved {
             // Λ_T = Λ_R − μ Λ_N, ξ_T = ξ_R − ξ_L. The certified solution meets the LCP to
@@ -754,7 +755,7 @@ impl Stepper {
                 let limit = mu * normal;
                 self.lambda_n[c] = normal;
                 self.lambda_t[c] = (solution.z[k + c] - mu * solution.z[c]).clamp(-limit, limit);
-                self.slip[c] = solution.w[k + c] - solution.z[2 * k + c];
+                self.slip[c] = solution.w[k + c] - scale * solution.z[2 * k + c];
             }
             for r in 0..l {
                 self.lambda_limit[r] = solution.z[3 * k + r].max(0.0);
@@ -782,8 +783,14 @@ impl Stepper {
     /// friction cannot act on its own, Coulomb's law leaves its percussions indeterminate
     /// (and Newton's law with `ε_T ≠ ε_N` contradicts itself), and the contact is a
     /// frictionless one, which moves the bodies exactly as the consistent law would.
-    fn contact_friction<const N: usize>(&mut self, model: &Model, k: usize) {
+    ///
+    /// Returns the scale `s` of the friction-cone rows (docs/physics.md §4.3): the largest
+    /// diagonal Delassus entry `G_NN`, `G_TT` of the closed contacts (1 where there is none),
+    /// so that every row of the LCP is a velocity and its certificate bounds the cone's
+    /// violation in the same units as the contact velocities.
+    fn contact_friction<const N: usize>(&mut self, model: &Model, k: usize) -> f64 {
         let n = dof::<N>(self.n);
+        let mut scale: f64 = 0.0;
         for c in 0..k {
             let (w_n, w_t) = (row(&self.w_n, n, c), row(&self.w_t, n, c));
             let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
@@ -795,6 +802,12 @@ impl Stepper {
             } else {
                 model.material(self.active[c]).friction
             };
+            scale = scale.max(g_nn).max(g_tt);
+        }
+        if scale.is_finite() && scale > 0.0 {
+            scale
+        } else {
+            1.0
         }
     }
 
@@ -888,7 +901,7 @@ impl Stepper {
         }
         self.record.resolution = Resolution {
             velocity: solution.certificate.tolerance,
-            impulse: impulse_resolution(&solution.certificate),
+            impulse: impulse_resolution(&solution.certificate, f64::INFINITY),
         };
         for c in 0..k {
             self.lambda_n[c] = solution.z[c].max(0.0);
@@ -1129,11 +1142,13 @@ impl Stepper {
 }
 
 /// The resolution of a certified answer's percussions: `Λ_N`, `Λ_R` are unknowns `z`,
-/// certified to the tolerance over `‖A‖_∞`; `Λ_L = 2μΛ_N − Λ_R` is an entry of `w`,
-/// certified to the tolerance itself (the LCP of docs/physics.md §4.3 mixes units in `w`).
-/// The larger of the two bounds both.
-fn impulse_resolution(certificate: &hopsim_lcp::Certificate) -> f64 {
-    certificate.z_tolerance().max(certificate.tolerance)
+/// certified to the tolerance over `‖A‖_∞`; `Λ_L = 2μΛ_N − Λ_R` enters `w` as `s Λ_L`
+/// (the cone rows' scale `cone_scale`, docs/physics.md §4.3), certified to the tolerance
+/// over `s` (no cone rows: `s = ∞`). The larger of the two bounds both.
+fn impulse_resolution(certificate: &hopsim_lcp::Certificate, cone_scale: f64) -> f64 {
+    certificate
+        .z_tolerance()
+        .max(certificate.tolerance / cone_scale)
 }
 
 /// A contact's rows `w_N`, `w_T` are dependent when `G_NN G_TT − G_NT² ≤ DEPENDENT_ROWS

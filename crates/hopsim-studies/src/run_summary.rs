@@ -261,6 +261,10 @@ impl fmt::Display for RunReport {
             f,
             "  wall time          {:>10.3} s ({:.0} steps/s)",
             s.wall_time_s, s.steps_per_s
-        )
+        )?;
+        for warning in &s.warnings {
+            write!(f, "\n  warning: {warning}")?;
+        }
+        Ok(())
     }
 }
