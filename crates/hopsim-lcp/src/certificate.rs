@@ -143,7 +143,8 @@ impl ProblemRef<'_> {
             };
             let r = (wi - ri).abs();
             residual = if r > residual { r } else { residual };
-            sum += zi + wi;
+            // (`r` is not finite when `w_i` or `(M z + q)_i` is not.)
+            sum += finite_or_nan(zi) + finite_or_nan(r);
         }
         if !sum.is_finite() {
             // The comparisons above skip NaN: make a non-finite iterate fail loudly.
@@ -159,6 +160,13 @@ impl ProblemRef<'_> {
             tolerance: self.rel_tol * scale,
         }
     }
+}
+
+/// 0 for a finite `x`, NaN otherwise: summed, it flags a non-finite value without the
+/// overflow a sum of huge finite values would cause.
+#[inline(always)]
+pub(crate) fn finite_or_nan(x: f64) -> f64 {
+    x * 0.0
 }
 
 /// `max(acc, |v|)` as the certificate accumulates `‖z‖_∞` (a NaN `v` is skipped; the

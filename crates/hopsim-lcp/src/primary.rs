@@ -163,9 +163,7 @@ fn core(
     let (z, w) = (&mut z[..n], &mut w[..n]);
     let (mut q_norm, q_min, q_sum) = vector_stats(q);
     if !q_sum.is_finite() {
-        if let Some(index) = q.iter().position(|v| !v.is_finite()) {
-            return Err(LcpInputError::NonFinite { what: "q", index });
-        }
+        nonfinite_q(q)?;
         q_norm = f64::MAX;
     }
 
@@ -205,6 +203,25 @@ fn core(
         out.end = End::Solved;
     }
     Ok(())
+}
+
+/// The error for the first non-finite entry of `q`, else of `M` (row-major), as the hot
+/// path reports it; `Ok` for finite data.
+#[cold]
+#[inline(never)]
+pub(crate) fn check_finite(m: MatRef<'_>, q: &[f64]) -> Result<(), LcpInputError> {
+    nonfinite_q(q)?;
+    nonfinite_entry(q.len(), m).map(|_| ())
+}
+
+/// The first non-finite entry of `q` as an error.
+#[cold]
+#[inline(never)]
+fn nonfinite_q(q: &[f64]) -> Result<(), LcpInputError> {
+    match q.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(LcpInputError::NonFinite { what: "q", index }),
+        None => Ok(()),
+    }
 }
 
 /// After a non-finite `‖M‖_∞`: the first non-finite entry of `M` (row-major) as an

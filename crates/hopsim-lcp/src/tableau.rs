@@ -13,7 +13,7 @@
 //! Everything here is `#[inline(always)]` so that `primary.rs` can specialise it for each
 //! small `n` (fixed trip counts) and instruction set.
 
-use crate::certificate::MatRef;
+use crate::certificate::{finite_or_nan, MatRef};
 
 /// Entries of the entering column at most `PIV_TOL · max(1, max_i |col_i|)` cannot pivot.
 const PIV_TOL: f64 = 1e-12;
@@ -695,10 +695,10 @@ pub(crate) fn extract(
     for (&x, &v) in t.tab[..n].iter().zip(&t.basis[..n]) {
         if v < n {
             w[v] = x * scales.w;
-            sum += w[v];
+            sum += finite_or_nan(w[v]);
         } else if v < 2 * n {
             z[v - n] = x * scales.z;
-            sum += z[v - n];
+            sum += finite_or_nan(z[v - n]);
         }
     }
     sum.is_finite()
