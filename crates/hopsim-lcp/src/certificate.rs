@@ -124,7 +124,8 @@ impl ProblemRef<'_> {
         let mut complementarity: f64 = 0.0;
         let mut most_negative: f64 = 0.0;
         let mut residual: f64 = 0.0;
-        let mut sum = 0.0;
+        // 0, or NaN once a value is not finite (see [`finite_or_nan`]).
+        let mut nonfinite = 0.0;
         // `z` in the units of `w` (a zero `M` leaves `z` as it is).
         let z_unit = if self.m_norm > 0.0 { self.m_norm } else { 1.0 };
         for ((&zi, &wi), &ri) in z.iter().zip(w).zip(mz.iter()) {
@@ -143,16 +144,17 @@ impl ProblemRef<'_> {
             };
             let r = (wi - ri).abs();
             residual = if r > residual { r } else { residual };
-            // (`r` is not finite when `w_i` or `(M z + q)_i` is not.)
-            sum += finite_or_nan(zi) + finite_or_nan(r);
+            // `r` is not finite when `w_i` or `(M z + q)_i` is not, nor so when `z_i` is.
+            nonfinite += finite_or_nan(r);
         }
-        if !sum.is_finite() {
+        let scale = self.q_norm.max(self.m_norm * z_norm).max(f64::MIN_POSITIVE);
+        // (An overflow of `‖M‖ z_i` makes the scale infinite.)
+        if !(nonfinite + scale).is_finite() {
             // The comparisons above skip NaN: make a non-finite iterate fail loudly.
             complementarity = f64::NAN;
             most_negative = f64::NAN;
             residual = f64::NAN;
         }
-        let scale = self.q_norm.max(self.m_norm * z_norm).max(f64::MIN_POSITIVE);
         Certificate {
             complementarity,
             most_negative,

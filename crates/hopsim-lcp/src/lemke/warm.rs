@@ -187,12 +187,10 @@ impl LemkeSolver {
         warm: &mut WarmStart,
     ) -> Result<&LcpSolution, LcpInputError> {
         let n = m.nrows();
-        if n == 0 || warm.n != n || m.ncols() != n || q.len() != n {
+        // (The options are checked for size `n` once, by the ordinary solve, which
+        // refuses what it cannot accept: until then no warm answer.)
+        if n == 0 || warm.n != n || m.ncols() != n || q.len() != n || self.cover_n != n {
             return self.solve_and_remember(m, q, warm);
-        }
-        // Options that the ordinary solve would refuse are refused warm as well.
-        if self.cover_n != n {
-            self.load_cover(n)?;
         }
         const _: () = assert!(MAX_WARM_FIXED == 6);
         match n {
