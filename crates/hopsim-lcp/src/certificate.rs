@@ -183,8 +183,8 @@ pub(crate) fn max_abs(acc: f64, v: f64) -> f64 {
     }
 }
 
-/// `(‖q‖_∞, min_i q_i, Σ q_i)` in one pass. The maximum and minimum skip NaN; the sum
-/// does not, so a non-finite sum flags a non-finite entry (or an overflow).
+/// `(‖q‖_∞, min_i q_i, Σ q_i)` in one pass. The maximum and minimum skip NaN and are exact
+/// whatever the sum does; a non-finite sum flags a non-finite entry, or an overflow.
 #[inline(always)]
 pub(crate) fn vector_stats(q: &[f64]) -> (f64, f64, f64) {
     let (mut norm, mut min, mut sum) = (0.0_f64, f64::INFINITY, 0.0);

@@ -47,7 +47,14 @@ fn agree(
     before: Option<&[bool]>,
 ) -> Result<(), TestCaseError> {
     if p.class.solvable() {
+        // Lemke's method alone processes these classes (Murty, §2.3): no fallback needed.
         prop_assert_eq!(cold.status, LcpStatus::Solved, "{:?} must solve", p.class);
+        prop_assert!(
+            matches!(cold.method, SolveMethod::Trivial | SolveMethod::Lemke),
+            "{:?} solved by {}",
+            p.class,
+            cold.method
+        );
     }
     check_certificate(&p.m, &p.q, cold, 1e-9)?;
     if cold.status == LcpStatus::Solved {

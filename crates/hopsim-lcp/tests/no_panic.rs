@@ -373,3 +373,51 @@ fn extreme_scales_are_answered_or_reported() {
         )
         .unwrap();
 }
+
+/// Non-finite data is an error at every size, also right after an answer of that size
+/// (no check on a change of size can stand in for the hot path's), warm and cold; and
+/// `‖M‖_∞` is the largest row sum even where the sum of the row sums overflows.
+#[test]
+fn non_finite_data_is_an_error_at_every_size() {
+    for n in 1..=14 {
+        let m = DMatrix::<f64>::identity(n, n) * 2.0;
+        let q = DVector::from_element(n, -1.0);
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for (what, i) in [("M", n * n - 1), ("M", 0), ("q", n - 1)] {
+                let (mut mb, mut qb) = (m.clone(), q.clone());
+                if what == "M" {
+                    mb[(i / n, i % n)] = bad;
+                } else {
+                    qb[i] = bad;
+                }
+                for use_warm in [false, true] {
+                    let mut solver = LemkeSolver::default();
+                    let mut warm = WarmStart::default();
+                    let good = solver
+                        .solve_warm(m.as_view(), q.as_view(), &mut warm)
+                        .unwrap();
+                    assert_eq!(good.status, LcpStatus::Solved);
+                    let result = if use_warm {
+                        solver.solve_warm(mb.as_view(), qb.as_view(), &mut warm)
+                    } else {
+                        solver.solve(mb.as_view(), qb.as_view())
+                    };
+                    let expected = LcpInputError::NonFinite { what, index: i };
+                    assert!(
+                        matches!(&result, Err(e) if same_error(e, &expected)),
+                        "n = {n}, {what}[{i}] = {bad}: {result:?}"
+                    );
+                }
+            }
+        }
+    }
+    let m = DMatrix::from_diagonal_element(4, 4, 1e308);
+    let q = DVector::from_element(4, -1e308);
+    let sol = LemkeSolver::default()
+        .solve(m.as_view(), q.as_view())
+        .unwrap()
+        .clone();
+    assert_eq!(sol.status, LcpStatus::Solved);
+    assert_eq!(sol.z.as_slice(), &[1.0; 4]);
+    assert_eq!(sol.certificate.tolerance, 1e-9 * 1e308);
+}
