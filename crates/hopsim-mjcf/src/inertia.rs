@@ -47,24 +47,21 @@ pub(crate) fn principal_inertia(kind: GeomType, s: [f64; 3], m: f64) -> V3 {
             let across = m * (3.0 * r * r + h * h) / 12.0;
             V3::new(across, across, m * r * r / 2.0)
         }
-        GeomType::Ellipsoid => {
-            let q = s.map(|x| x * x);
-            V3::new(
-                m * (q[1] + q[2]) / 5.0,
-                m * (q[0] + q[2]) / 5.0,
-                m * (q[0] + q[1]) / 5.0,
-            )
-        }
-        GeomType::Box => {
-            let q = s.map(|x| x * x);
-            V3::new(
-                m * (q[1] + q[2]) / 3.0,
-                m * (q[0] + q[2]) / 3.0,
-                m * (q[0] + q[1]) / 3.0,
-            )
-        }
+        GeomType::Ellipsoid => three_axes(m, s, 5.0),
+        GeomType::Box => three_axes(m, s, 3.0),
         GeomType::Plane => V3::zeros(),
     }
+}
+
+/// `m (b² + c²) / k` and its turns: an ellipsoid's (`k` = 5) or a box's (`k` = 3) principal
+/// inertias for semi-axes or half-sizes `s`.
+fn three_axes(m: f64, s: [f64; 3], k: f64) -> V3 {
+    let q = s.map(|x| x * x);
+    V3::new(
+        m * (q[1] + q[2]) / k,
+        m * (q[0] + q[2]) / k,
+        m * (q[0] + q[1]) / k,
+    )
 }
 
 /// The geom's mass from `mass` or else `density`, and its inertia, as MuJoCo's compiler

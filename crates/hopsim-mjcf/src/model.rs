@@ -180,7 +180,8 @@ pub struct Geom {
     pub mass: f64,
     pub contype: u32,
     pub conaffinity: u32,
-    /// 1: frictionless, 3: sliding friction (4 is read as 3, see docs/mjcf.md).
+    /// 1: frictionless, 3: sliding friction, 4: also torsional friction, which has no
+    /// effect in the plane (docs/mjcf.md).
     pub condim: u32,
     pub priority: i32,
     /// MuJoCo's `friction`: sliding, torsional, rolling.

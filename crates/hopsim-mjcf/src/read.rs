@@ -449,7 +449,33 @@ fn class_of<'a>(
         .ok_or_else(|| e.error(Some("class"), format!("no default class `{name}`")))
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
+    /// The `count`-th joint or geom `e` seen through its class's defaults (`defaults`
+    /// picks them), checked against `table`.
+    fn begin<'c>(
+        &mut self,
+        e: &'c Element,
+        count: usize,
+        childclass: &str,
+        defaults: fn(&Class) -> &Vec<Attr>,
+        table: Table,
+    ) -> Result<View<'c>>
+    where
+        'a: 'c,
+    {
+        no_children(e)?;
+        if count > MAX_ELEMENTS {
+            return Err(e.error(
+                None,
+                format!("more than {MAX_ELEMENTS} <{}> elements", e.name),
+            ));
+        }
+        let class = class_of(self.classes, e, childclass)?;
+        let v = View::new(e, defaults(class));
+        v.check(table, self.ctx)?;
+        Ok(v)
+    }
+
     fn world(&mut self, e: &Element, again: bool) -> Result<()> {
         if let Some(a) = e.attrs.first() {
             return Err(e.error(Some(&a.name), "<worldbody> takes no attributes"));
@@ -576,14 +602,8 @@ impl Reader<'_> {
     }
 
     fn joint(&mut self, e: &Element, childclass: &str) -> Result<Joint3> {
-        no_children(e)?;
         self.joints += 1;
-        if self.joints > MAX_ELEMENTS {
-            return Err(e.error(None, format!("more than {MAX_ELEMENTS} joints")));
-        }
-        let class = class_of(self.classes, e, childclass)?;
-        let v = View::new(e, &class.joint);
-        v.check(tables::JOINT, self.ctx)?;
+        let v = self.begin(e, self.joints, childclass, |c| &c.joint, tables::JOINT)?;
         let hinge = match v.word("type", &["hinge", "slide", "ball", "free"])? {
             None | Some("hinge") => true,
             Some("slide") => false,
@@ -651,14 +671,8 @@ impl Reader<'_> {
     }
 
     fn geom(&mut self, e: &Element, childclass: &str) -> Result<Geom3> {
-        no_children(e)?;
         self.geoms += 1;
-        if self.geoms > MAX_ELEMENTS {
-            return Err(e.error(None, format!("more than {MAX_ELEMENTS} geoms")));
-        }
-        let class = class_of(self.classes, e, childclass)?;
-        let v = View::new(e, &class.geom);
-        v.check(tables::GEOM, self.ctx)?;
+        let v = self.begin(e, self.geoms, childclass, |c| &c.geom, tables::GEOM)?;
         let kind = match v.word(
             "type",
             &[
@@ -731,6 +745,16 @@ impl Reader<'_> {
         let condim = v.integer("condim", 3)?;
         if ![1, 3, 4, 6].contains(&condim) {
             return Err(v.error_for("condim", "expected 1, 3, 4 or 6"));
+        }
+        if condim == 4 {
+            let loc = v.get("condim").map_or(&e.loc, |a| &a.loc);
+            self.ctx.notice(
+                NoticeKind::Ignored,
+                loc,
+                &e.name,
+                Some("condim"),
+                "torsional friction acts about the contact normal, which lies in the plane: no effect on planar motion",
+            );
         }
         if condim == 6 {
             let loc = v.get("condim").map_or(&e.loc, |a| &a.loc);
