@@ -30,6 +30,7 @@ pub(crate) fn build(doc: Document, ctx: &mut Context) -> Result<PlanarModel> {
             xquat[b] = xquat[p] * body.quat;
         }
     }
+    unique_names(&doc)?;
     let plane = find_plane(&doc.bodies, &xquat)?;
     let n = plane.normal;
 
@@ -227,6 +228,33 @@ pub(crate) fn build(doc: Document, ctx: &mut Context) -> Result<PlanarModel> {
         actuators,
         notices: std::mem::take(&mut ctx.notices),
     })
+}
+
+/// Bodies and joints are found by name (actuators, states): each name once, as in MuJoCo.
+fn unique_names(doc: &Document) -> Result<()> {
+    let mut bodies = std::collections::HashSet::new();
+    let mut joints = std::collections::HashSet::new();
+    for b in &doc.bodies {
+        if !bodies.insert(b.name.as_str()) {
+            return Err(located(
+                &b.loc,
+                "body",
+                Some("name"),
+                format!("a second body named `{}`", b.name),
+            ));
+        }
+        for j in &b.joints {
+            if !joints.insert(j.name.as_str()) {
+                return Err(located(
+                    &j.loc,
+                    "joint",
+                    Some("name"),
+                    format!("a second joint named `{}`", j.name),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn body_uses_geoms(body: &Body3, from_geom: Option<bool>) -> bool {

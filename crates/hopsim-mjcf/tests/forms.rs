@@ -539,6 +539,17 @@ fn physics_outside_the_subset_is_an_error_unless_allowed() {
 }
 
 #[test]
+fn names_are_unique() {
+    let e = fails("<mujoco><worldbody><body><joint name=\"j\" axis=\"0 1 0\"/><geom size=\"0.1\"/>\n<body><joint name=\"j\" axis=\"0 1 0\"/><geom size=\"0.1\"/></body></body></worldbody></mujoco>");
+    assert!(
+        e.location.line == 2 && e.to_string().contains("a second joint named `j`"),
+        "{e}"
+    );
+    let e = fails(r#"<mujoco><worldbody><body name="world"/></worldbody></mujoco>"#);
+    assert!(e.to_string().contains("a second body named `world`"), "{e}");
+}
+
+#[test]
 fn malformed_files_are_located() {
     let e = fails("<mujoco>\n  <worldbody>\n    <body pos=\"0 0\"/>\n  </worldbody>\n</mujoco>");
     assert_eq!((e.location.line, e.location.column), (3, 11), "{e}");
