@@ -300,7 +300,13 @@ fn planar_models_of_gymnasium_and_dm_control_match_mujoco() {
     let script = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests")
         .join("mujoco_oracle.py");
-    let out = match Command::new(&python).arg(&script).output() {
+    // MuJoCo writes MUJOCO_LOG.TXT into its working directory: keep it out of the tree.
+    let scratch = tempfile::tempdir().unwrap();
+    let out = match Command::new(&python)
+        .arg(&script)
+        .current_dir(scratch.path())
+        .output()
+    {
         Ok(out) => out,
         Err(e) => return unavailable(&format!("cannot run {python}: {e}")),
     };
