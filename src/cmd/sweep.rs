@@ -68,10 +68,7 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
         .into_iter()
         .collect();
     // Validate the base scene once, so a broken file fails before hundreds of runs do.
-    let scene = match args.scene.load(&extra) {
-        Ok(scene) => scene,
-        Err(code) => return Ok(code),
-    };
+    let scene = args.scene.load(&extra)?;
     let mut base = args.scene.overrides.clone();
     base.extend(extra);
     let sweep = match Sweep::new(&scene, &base, SweepParams::from(&args)) {

@@ -256,7 +256,8 @@ impl<'s> Simulation<'s> {
     /// Takes one step with `actuation` and `events` (brakes, shape switches) given by the
     /// caller in place of the scene's controller, which is not called in this step (its
     /// own state does not advance). A brake event names the lock of `actuation.locks` it
-    /// engages, as the controllers' do. Body and shape indices must exist in the model.
+    /// engages, as the controllers' do. Commands the model cannot carry out (see
+    /// [`hopsim_step::ActuationError`]) are refused before the step: [`RunError::Actuation`].
     /// Reuses the simulation's buffers: no allocation once they have grown to the
     /// commands' sizes.
     pub fn step_with(
@@ -267,6 +268,11 @@ impl<'s> Simulation<'s> {
     ) -> Result<(), RunError> {
         // Field by field into the kept buffers (no allocation); the pattern names every
         // field, so a new kind of command cannot be left out silently.
+        let model = &self.scene.model;
+        actuation.validate(model)?;
+        for e in events {
+            e.validate(model)?;
+        }
         let Actuation {
             torques,
             joint_forces,

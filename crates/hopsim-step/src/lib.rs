@@ -13,7 +13,9 @@ mod state;
 mod stepper;
 mod trace;
 
-pub use actuation::{Actuation, ImpulseCommand, JointForceCommand, TorqueCommand};
+pub use actuation::{
+    check_lock, Actuation, ActuationError, ImpulseCommand, JointForceCommand, TorqueCommand,
+};
 pub use record::{
     ContactRecord, ContactState, EnergyLedger, LcpStats, LimitRecord, LockRecord, Resolution,
     StepRecord, STATE_MARGIN,

@@ -52,12 +52,12 @@ pub enum AnalyzeCommand {
 }
 
 pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
-    let result = match args.command {
+    match args.command {
         AnalyzeCommand::Template(args) => template::run(args),
         AnalyzeCommand::Obstacle(args) => obstacle::run(args),
         AnalyzeCommand::ImpulsiveWheel(args) => impulsive_wheel::run(args),
         AnalyzeCommand::FixedPoints(args) => fixed_points::run(args),
         AnalyzeCommand::Gait(args) => gait::run(args),
-    };
-    common::exit_code(result)
+    }?;
+    Ok(ExitCode::SUCCESS)
 }
