@@ -2,10 +2,10 @@
 //! them: every subcommand returns its error to `main`, which prints it and exits with
 //! [`of_error`]'s code.
 
-use hopsim_analysis::AnalysisError;
 use hopsim_scene::SceneError;
 use hopsim_sim::RunError;
 use hopsim_studies::StudyError;
+use hopsim_theory::AnalysisError;
 use std::fmt;
 
 /// An I/O or other error, or `hopsim compare` found a difference.

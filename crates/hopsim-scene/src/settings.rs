@@ -69,6 +69,28 @@ pub const MIN_DT: f64 = 1e-9;
 /// more (a bound on run time that a typo in `duration` or `dt` cannot exceed).
 pub const DEFAULT_MAX_STEPS: f64 = 1e8;
 
+impl Settings {
+    /// The settings of a run of `duration` s in steps of `dt` s with every other key at
+    /// the scene format's default (docs/scene-format.md): gravity 9.81 m/s², frames at
+    /// 1000 Hz, the speed window the run's second half, cube baseline `ε = 0.5`, not
+    /// strict, warm start on, runaway above 1e4 m/s or rad/s, at most
+    /// [`DEFAULT_MAX_STEPS`] steps. For models built in code; the reader starts from it.
+    pub fn new(duration: f64, dt: f64) -> Self {
+        Self {
+            duration,
+            dt,
+            gravity: 9.81,
+            record_rate: 1000.0,
+            speed_window: (duration / 2.0).max(dt).min(duration),
+            cube_restitution: 0.5,
+            strict: false,
+            warm_start: true,
+            max_speed: 1e4,
+            max_steps: DEFAULT_MAX_STEPS as u64,
+        }
+    }
+}
+
 /// Reads `[simulation]` and `[summary]`.
 pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Settings, SceneError> {
     let duration = sim.f64("duration", Num::positive("s"))?;
@@ -112,18 +134,21 @@ pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Sett
             ),
         ));
     }
-    let speed_window = window.unwrap_or((duration / 2.0).max(dt)).min(duration);
+    let d = Settings::new(duration, dt);
     Ok(Settings {
-        duration,
-        dt,
-        gravity: sim.f64_or("gravity", 9.81, Num::non_negative("m/s²"))?,
-        record_rate: sim.f64_or("record_rate", 1000.0, Num::positive("Hz"))?,
-        speed_window,
-        cube_restitution: summary.f64_or("cube_restitution", 0.5, Num::range(0.0, 1.0, ""))?,
-        strict: sim.bool_or("strict", false)?,
-        warm_start: sim.bool_or("warm_start", true)?,
-        max_speed: sim.f64_or("max_speed", 1e4, Num::positive("m/s or rad/s"))?,
+        gravity: sim.f64_or("gravity", d.gravity, Num::non_negative("m/s²"))?,
+        record_rate: sim.f64_or("record_rate", d.record_rate, Num::positive("Hz"))?,
+        speed_window: window.map_or(d.speed_window, |w| w.min(duration)),
+        cube_restitution: summary.f64_or(
+            "cube_restitution",
+            d.cube_restitution,
+            Num::range(0.0, 1.0, ""),
+        )?,
+        strict: sim.bool_or("strict", d.strict)?,
+        warm_start: sim.bool_or("warm_start", d.warm_start)?,
+        max_speed: sim.f64_or("max_speed", d.max_speed, Num::positive("m/s or rad/s"))?,
         max_steps: max_steps as u64,
+        ..d
     })
 }
 

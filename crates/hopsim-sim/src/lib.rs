@@ -32,5 +32,5 @@ pub use summary::{
     BALANCE_WARNING, IMPULSE_UNIT,
 };
 pub use sweep::{
-    grid_jobs, grid_points, sweep, GridAxis, Progress, SweepJob, SweepPoint, NO_PROGRESS,
+    grid_jobs, grid_points, sweep, GridAxis, RunDone, SweepJob, SweepPoint, NO_PROGRESS,
 };

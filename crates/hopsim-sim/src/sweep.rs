@@ -8,10 +8,10 @@ use serde::Serialize;
 use std::path::Path;
 
 /// Called once per finished run of a sweep, from any thread.
-pub type Progress<'a> = &'a (dyn Fn() + Sync);
+pub type RunDone<'a> = &'a (dyn Fn() + Sync);
 
-/// A [`Progress`] that ignores the reports.
-pub const NO_PROGRESS: Progress<'static> = &|| {};
+/// A [`RunDone`] that ignores the reports.
+pub const NO_PROGRESS: RunDone<'static> = &|| {};
 
 /// One grid axis: a scene key and the values it takes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -131,7 +131,7 @@ pub fn sweep<R: Send>(
     base: &[Override],
     jobs: &[SweepJob],
     run: impl Fn(&Scene) -> Result<R, RunError> + Sync,
-    progress: Progress<'_>,
+    progress: RunDone<'_>,
 ) -> Vec<SweepPoint<R>> {
     jobs.par_iter()
         .map(|job| {

@@ -11,7 +11,6 @@ mod linalg;
 mod record;
 mod state;
 mod stepper;
-mod trace;
 
 pub use actuation::{
     check_lock, Actuation, ActuationError, ImpulseCommand, JointForceCommand, TorqueCommand,
@@ -22,6 +21,3 @@ pub use record::{
 };
 pub use state::State;
 pub use stepper::{StepError, StepSettings, Stepper, DEPENDENT_ROWS};
-pub use trace::{
-    ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance, MAX_TRACE_BYTES,
-};

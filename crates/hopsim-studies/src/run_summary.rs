@@ -4,7 +4,6 @@
 //! Poincaré section of §5.4 for the pulse controller.
 
 use crate::report::Report;
-use hopsim_analysis::cube::Cube;
 use hopsim_control::ControllerConfig;
 use hopsim_model::Shape;
 use hopsim_scene::Scene;
@@ -12,6 +11,7 @@ use hopsim_sim::{
     per_forward_metre, Observer, Periodicity, PeriodicityOptions, PoincareSection, RunError,
     Simulation, Summary,
 };
+use hopsim_theory::cube::Cube;
 use serde::Serialize;
 use std::fmt;
 

@@ -1,6 +1,6 @@
 //! `hopsim analyze …`: closed-form maps and reduced models of docs/physics.md §5
 //! (`docs/analysis.md`), computed by the studies of `hopsim-studies` over the theory of
-//! `hopsim-analysis`, and the gait of a simulated or recorded run.
+//! `hopsim-theory`, and the gait of a simulated or recorded run.
 //!
 //! Every subcommand prints a readable table by default, one JSON object with `--json`, and
 //! writes CSV files and PNG/SVG plots into `--out DIR` (created if missing, files written
