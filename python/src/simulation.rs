@@ -191,17 +191,17 @@ pub struct PySimulation {
     /// `Simulation` holds the scene's controller, which is `Send` but not `Sync`; the
     /// mutex makes the class shareable between threads (methods taking `&mut self` reach
     /// it without locking).
-    sim: Mutex<Simulation<'static>>,
+    sim: Mutex<Simulation>,
     scene: Arc<Scene>,
     py_scene: Py<PyScene>,
 }
 
 impl PySimulation {
-    fn sim(&mut self) -> &mut Simulation<'static> {
+    fn sim(&mut self) -> &mut Simulation {
         self.sim.get_mut().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn shared(&self) -> MutexGuard<'_, Simulation<'static>> {
+    fn shared(&self) -> MutexGuard<'_, Simulation> {
         self.sim.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
@@ -291,7 +291,7 @@ impl PySimulation {
     #[new]
     fn new(py: Python<'_>, scene: Bound<'_, PyScene>) -> PyResult<Self> {
         let shared = scene.get().scene.clone();
-        let sim = guard(py, "Simulation", || Ok(Simulation::shared(shared.clone())))?;
+        let sim = guard(py, "Simulation", || Ok(Simulation::new(&shared)))?;
         Ok(Self {
             sim: Mutex::new(sim),
             scene: shared,

@@ -4,7 +4,7 @@
 
 use clap::Args;
 use hopsim_scene::Override;
-use hopsim_sim::GridAxis;
+use hopsim_studies::sweep::GridAxis;
 use hopsim_studies::sweep::{
     metric_name, Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS,
 };

@@ -1,17 +1,17 @@
 //! A model built in Rust code alone runs exactly as the scene file that describes it: Robbit
-//! (docs/physics.md §5.3) from bodies, a shape, a terrain and a controller, against
-//! `scenes/robbit.toml`, step by step and bit for bit.
+//! (docs/physics.md §5.3) from bodies, a shape, a terrain and a controller, a [`Setup`]
+//! without any scene, against `scenes/robbit.toml`, step by step and bit for bit.
 
 use hopsim_control::{ControllerConfig, MomentumImpulseConfig, Release};
 use hopsim_model::{Body, ContactMaterial, Model, Shape, ShapeInstance, Terrain, Vec2};
-use hopsim_scene::{Meta, Scene, Settings};
-use hopsim_sim::{Observer, RunError, StepView};
+use hopsim_sim::{Observer, RunError, Settings, Setup, StepView};
 use hopsim_step::State;
 use nalgebra::DVector;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Robbit as docs/physics.md §5.3 gives it, written without a scene file.
-fn robbit_in_code() -> Scene {
+fn robbit_in_code() -> Setup {
     let bodies = vec![
         Body::base("disc", 0.974, 3.004e-3),
         Body::flywheel("flywheel", 0.431, 1.543e-3, 0),
@@ -44,17 +44,12 @@ fn robbit_in_code() -> Scene {
         release: Release::Touchdown { rearm_timeout: 1.0 },
         hold_brake: false,
     });
-    Scene {
+    Setup {
+        title: "Robbit".into(),
         path: PathBuf::from("robbit-in-code"),
         text: String::new(),
-        overrides: Vec::new(),
-        meta: Meta {
-            title: "Robbit".into(),
-            ..Meta::default()
-        },
-        title: "Robbit".into(),
         settings,
-        model,
+        model: Arc::new(model),
         initial: State::at_rest(DVector::from_vec(vec![0.0, 0.1, 0.0, 0.0])),
         controller,
         switchable: Vec::new(),
@@ -83,6 +78,7 @@ fn robbit_built_in_code_runs_as_its_scene_file_bit_for_bit() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/robbit.toml");
     let file = hopsim_scene::load(&path, &[]).unwrap();
     let code = robbit_in_code();
+    assert_eq!(code.title, file.title);
     assert_eq!(code.settings, file.settings);
     assert_eq!(code.controller, file.controller);
     assert_eq!(code.coordinates, file.coordinates);

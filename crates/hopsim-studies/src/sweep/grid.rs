@@ -1,8 +1,8 @@
 //! Parameter sweeps: a scene run over the Cartesian product of grid axes, in parallel,
 //! with results in a deterministic order (docs/physics.md §5.3, the speed-versus-impulse map).
 
-use crate::{RunError, Summary};
 use hopsim_scene::{Override, Scene};
+use hopsim_sim::{RunError, Summary};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -147,7 +147,7 @@ pub fn sweep<R: Send>(
             .unwrap_or_else(|payload| {
                 Err(format!(
                     "internal error: {}. This is a bug in hopsim; please report it",
-                    crate::panic_message(payload.as_ref())
+                    hopsim_sim::panic_message(payload.as_ref())
                 ))
             });
             progress();
