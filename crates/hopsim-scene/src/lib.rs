@@ -27,7 +27,7 @@ pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
-pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
+pub use scene::{document, load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
 pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use settings::{check_steps, Meta, Settings, TooManySteps, MIN_DT};
 pub use start::{check_start, check_state, StartProblem, StateProblem, PENETRATION_TOL};
