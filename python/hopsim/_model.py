@@ -15,6 +15,8 @@ import numbers
 import re
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
+import numpy as np
+
 from ._hopsim import Scene, SceneError
 
 # Kinds of values a key takes (checked in Python; values are checked by the scene reader).
@@ -206,20 +208,18 @@ class _Item:
 
 
 def _is_number(v: Any) -> bool:
-    return isinstance(v, numbers.Real) and not isinstance(v, (bool, _np_bool()))
-
-
-def _np_bool() -> type:
-    try:
-        import numpy
-
-        return numpy.bool_
-    except ImportError:  # pragma: no cover (numpy is a dependency)
-        return bool
+    return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
 
 
 def _is_sequence(v: Any) -> bool:
-    return not isinstance(v, (str, bytes, Mapping)) and hasattr(v, "__iter__") and hasattr(v, "__len__")
+    """A list, tuple, numpy array (not a 0-d one) or other sized iterable, not text."""
+    if isinstance(v, (str, bytes, Mapping)) or not hasattr(v, "__iter__"):
+        return False
+    try:
+        len(v)
+    except TypeError:
+        return False
+    return True
 
 
 def _plain(value: Any, kind: str) -> Any:
@@ -232,7 +232,7 @@ def _plain(value: Any, kind: str) -> Any:
     if kind == STRING:
         return str(value) if isinstance(value, str) else None
     if kind == BOOL:
-        return bool(value) if isinstance(value, (bool, _np_bool())) else None
+        return bool(value) if isinstance(value, (bool, np.bool_)) else None
     if kind in (VEC2, NUMBERS, NAMES, POINTS):
         if not _is_sequence(value):
             return None
@@ -425,6 +425,8 @@ class Model:
 
     def _set(self, section: _Section, keys: Mapping[str, Any], call: _Call, free: bool = False) -> None:
         values = self._checked(section, keys, call, free)
+        if section.table == "meta" and "title" in values and values["title"] is None:
+            raise TypeError(f"{call.text('title')}: title: expected a string (a model has a title)")
         item = self._tables.setdefault(section.table, _Item(call))
         self._write(item, values, call)
 
@@ -454,12 +456,9 @@ class Model:
                 raise TypeError(
                     f"{call.text(key)}: {key}: expected {kind}, got {type(value).__name__} {_shown(value)}"
                 )
-            big = _too_big(plain)
-            if big is not None:
-                raise _scene_error(
-                    f"{call.text(key)}: {key}: the integer {big} does not fit in 64 bits",
-                    call, key, None,
-                )
+            problem = _unwritable(plain)
+            if problem is not None:
+                raise _scene_error(f"{call.text(key)}: {key}: {problem}", call, key, None)
             values[key] = plain
         return values
 
@@ -544,15 +543,25 @@ class Model:
         return model
 
 
-def _too_big(value: Any) -> Optional[int]:
-    """An integer in ``value`` beyond TOML's 64 bits, if any."""
-    if isinstance(value, int) and not isinstance(value, bool):
-        return value if abs(value) > _MAX_INT else None
-    children = value.values() if isinstance(value, dict) else value if isinstance(value, list) else ()
+def _unwritable(value: Any) -> Optional[str]:
+    """Why the plain value ``value`` cannot be written in a scene file, if it cannot: an
+    integer beyond TOML's 64 bits, or text that is not Unicode (a lone surrogate)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > _MAX_INT:
+        return f"the integer {value} does not fit in 64 bits"
+    if isinstance(value, str):
+        try:
+            value.encode("utf-8")
+        except UnicodeEncodeError as error:
+            return f"the text {_shown(value)} is not Unicode ({error.reason})"
+        return None
+    if isinstance(value, dict):
+        children = [*value.keys(), *value.values()]
+    else:
+        children = value if isinstance(value, list) else []
     for child in children:
-        big = _too_big(child)
-        if big is not None:
-            return big
+        problem = _unwritable(child)
+        if problem is not None:
+            return problem
     return None
 
 

@@ -3,6 +3,7 @@ builder call and argument; Scene.model gives back the scene it came from."""
 
 import json
 import math
+import pickle
 import random
 import re
 import subprocess
@@ -258,13 +259,45 @@ def test_python_type_and_keyword_errors_are_raised_at_the_call(call, expected):
     assert model.toml() == before  # a refused call changes nothing
 
 
-def test_an_integer_beyond_64_bits_is_refused_at_the_call():
+@pytest.mark.parametrize(
+    "call, expected",
+    [
+        (lambda m: m.body("leg", mass=2**64),
+         "Model.body('leg', mass=18446744073709551616): mass: the integer "
+         "18446744073709551616 does not fit in 64 bits"),
+        (lambda m: m.meta(notes="half \ud800 a pair"),
+         "Model.meta(notes='half \\ud800 a pair'): notes: the text 'half \\ud800 a pair' is "
+         "not Unicode (surrogates not allowed)"),
+    ],
+)
+def test_values_no_scene_file_can_hold_are_refused_at_the_call(call, expected):
     with pytest.raises(hopsim.SceneError) as info:
-        robbit_in_code().body("leg", mass=2**64)
-    assert str(info.value) == (
-        "Model.body('leg', mass=18446744073709551616): mass: the integer "
-        "18446744073709551616 does not fit in 64 bits"
-    )
+        call(robbit_in_code())
+    assert str(info.value) == expected
+    assert info.value.call == expected.split(": ")[0]
+
+
+def test_odd_python_values_are_type_errors():
+    model = robbit_in_code()
+    for call in (
+        lambda: model.body("leg", pivot=np.array(1.0)),  # a 0-d array is no pair
+        lambda: model.meta(title=None),  # a model keeps its title
+        lambda: hopsim.Model(None),
+        lambda: model.initial(q=(x for x in range(4))),  # a generator has no length
+    ):
+        with pytest.raises(TypeError) as info:
+            call()
+        assert str(info.value).startswith("Model"), str(info.value)
+
+
+def test_a_model_pickles():
+    model = robbit_in_code()
+    copy = pickle.loads(pickle.dumps(model))
+    assert copy.toml() == model.toml()
+    copy.body("disc", mass=-1.0)  # the copy's calls are its own
+    with pytest.raises(hopsim.SceneError, match=r"^Model.body\('disc', mass=-1.0\): mass:"):
+        copy.scene()
+    assert model.scene().bodies[0]["mass"] == 0.974
 
 
 def test_an_override_error_names_the_override():
