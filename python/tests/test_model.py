@@ -135,6 +135,33 @@ def test_bundled_scenes_are_found():
     assert {"robbit.toml", "canebot-timed.toml", "hopper.toml", "cradle-3.toml"} <= names
 
 
+def reader_keys(model, path, overrides=None):
+    """The keys the scene reader knows in the table at `path` (`bodies.1`) of `model`'s
+    scene: those its "unknown key" error lists."""
+    with pytest.raises(hopsim.SceneError) as info:
+        model.scene(overrides={**(overrides or {}), f"{path}.not_a_key": 1})
+    return set(re.search(r"known keys here: (.*)$", str(info.value)).group(1).split(", "))
+
+
+def test_the_builder_knows_the_keys_the_scene_reader_knows():
+    """Every table of every bundled scene, and the terrains no bundled scene uses: the
+    builder's keywords are the reader's keys, no more and no fewer."""
+    known = {s.table: set() for s in hopsim._model._SECTIONS if s.table != "meta"}
+    for path in bundled_scenes():
+        model = hopsim.Scene.load(path).model
+        for table in known:
+            count = len(model._arrays[table]) if table in model._arrays else 1
+            for i in range(count):
+                known[table] |= reader_keys(model, f"{table}.{i}" if table in model._arrays else table)
+    robbit = robbit_in_code()
+    for terrain in ({"environment.terrain": "incline", "environment.angle": 0.1},
+                    {"environment.terrain": "step", "environment.step_x": 1.0,
+                     "environment.step_height": 0.05}):
+        known["environment"] |= reader_keys(robbit, "environment", terrain)
+    for table, keys in known.items():
+        assert set(hopsim._model._BY_TABLE[table].keys) == keys, table
+
+
 def test_the_model_of_a_scene_carries_its_overrides_and_changes_in_code(robbit_path):
     overridden = hopsim.Scene.load(robbit_path, overrides={"controller.torque": 0.2})
     model = overridden.model
