@@ -1,7 +1,7 @@
 """hopsim.Model: models built in code run as the scene files they write; errors name the
 builder call and argument; Scene.model gives back the scene it came from."""
 
-import json
+import ast
 import math
 import pickle
 import random
@@ -454,3 +454,14 @@ def test_the_documented_example_runs(monkeypatch, capsys):
     documented = re.search(r"# (Model\.body\('leg2'.*)$", models_in_code_example(), re.M).group(1)
     assert namespace["message"] == documented
     assert capsys.readouterr().out
+
+
+def test_the_type_stub_has_every_keyword():
+    """python/hopsim/_model.pyi, for type checkers: one keyword per key of each table."""
+    stub = ast.parse((REPO / "python" / "hopsim" / "_model.pyi").read_text())
+    model = next(n for n in stub.body if isinstance(n, ast.ClassDef) and n.name == "Model")
+    methods = {f.name: f.args for f in model.body if isinstance(f, ast.FunctionDef)}
+    for section in hopsim._model._SECTIONS:
+        args = methods[section.method]
+        names = [a.arg for a in args.args[1:] + args.kwonlyargs]
+        assert sorted(names) == sorted(section.keys), section.method
