@@ -40,7 +40,9 @@ class _Section:
     """One table of the scene format: its TOML name, whether it is an array of tables, the
     builder method that writes it, and its keys as ``(key, kind, meaning)``."""
 
-    def __init__(self, table: str, method: str, many: bool, keys: Sequence[Tuple[str, str, str]]):
+    def __init__(
+        self, table: str, method: str, many: bool, keys: Sequence[Tuple[str, str, str]]
+    ):
         self.table, self.method, self.many = table, method, many
         self.keys: Dict[str, Tuple[str, str]] = {k: (kind, doc) for k, kind, doc in keys}
 
@@ -62,7 +64,7 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("record_rate", NUMBER, "frames per simulated second in recordings, Hz (1000)"),
         ("strict", BOOL, "stop on the first contact LCP without a certified solution (False)"),
         ("warm_start", BOOL, "solve each contact LCP first from the last basis (True)"),
-        ("max_speed", NUMBER, "a generalised velocity above this stops the run, m/s or rad/s (1e4)"),
+        ("max_speed", NUMBER, "a velocity above this stops the run, m/s or rad/s (1e4)"),
         ("max_steps", NUMBER, "the most steps duration / dt may take (1e8)"),
     )),
     _Section("summary", "summary", False, (
@@ -79,14 +81,14 @@ _SECTIONS: Tuple[_Section, ...] = (
     _Section("bodies", "body", True, (
         ("name", STRING, "unique; required"),
         ("mass", NUMBER, "kg; required, > 0 (a fixed base: ≥ 0, default 0)"),
-        ("inertia", NUMBER, "about the centre of mass, kg m²; required, > 0 (fixed base: ≥ 0)"),
+        ("inertia", NUMBER, "about the centre of mass, kg m²; required, > 0 (fixed: ≥ 0)"),
         ("parent", STRING, "the body this one hangs on"),
         ("base", STRING, 'a body without parent: "floating", "pinned" (at pivot) or "fixed"'),
         ("joint", STRING, 'the joint to the parent: "revolute" (default) or "prismatic"'),
         ("axis", VEC2, "a prismatic joint's direction in the parent's frame"),
         ("pivot", VEC2, "the joint in the parent's frame (a pinned base: world point), m"),
         ("com", VEC2, "this body's centre of mass relative to the joint, own frame, m"),
-        ("coordinate", STRING, 'a revolute joint\'s coordinate: "relative" (default) or "absolute"'),
+        ("coordinate", STRING, 'a revolute joint: "relative" (default) or "absolute"'),
         ("coordinate_name", STRING, "the coordinate's name in recordings and CSV"),
         ("damping", NUMBER, "viscous joint damping, N m s/rad or N s/m (0)"),
         ("stiffness", NUMBER, "joint spring, N m/rad or N/m (0)"),
@@ -293,7 +295,9 @@ def _toml(value: Any) -> str:
     return "[" + ", ".join(_toml(v) for v in value) + "]"
 
 
-_KEY_PATH = re.compile(r"^(?P<table>\w+)(?:\[(?P<index>\d+)\])?(?:\.(?P<key>\w+))?(?P<rest>.*)$")
+_KEY_PATH = re.compile(
+    r"^(?P<table>\w+)(?:\[(?P<index>\d+)\])?(?:\.(?P<key>\w+))?(?P<rest>.*)$"
+)
 
 #: Largest magnitude of a TOML integer.
 _MAX_INT = 2**63 - 1
@@ -324,8 +328,8 @@ class Model:
     def __init__(self, title: str = "model", **meta: Any):
         self._tables: Dict[str, _Item] = {}
         self._arrays: Dict[str, List[_Item]] = {s.table: [] for s in _SECTIONS if s.many}
-        self._title_call = _Call("", {"title": title}, lead="title")
-        self._set(_BY_TABLE["meta"], {"title": title}, self._title_call)
+        given = {"title": title}
+        self._set(_BY_TABLE["meta"], given, _Call("", given, lead="title"))
         if meta:
             self.meta(**meta)
 
@@ -389,7 +393,8 @@ class Model:
             raise self._located(error, lines) from None
 
     def __repr__(self) -> str:
-        counts = ", ".join(f"{len(items)} {table}" for table, items in self._arrays.items() if items)
+        arrays = self._arrays.items()
+        counts = ", ".join(f"{len(items)} {table}" for table, items in arrays if items)
         return f"<Model {self.title!r}: {counts or 'empty'}>"
 
     # Building.
@@ -397,7 +402,9 @@ class Model:
     def _path(self) -> str:
         return f"<Model {self.title!r}>"
 
-    def _named(self, method: str, name: Optional[str], keys: Mapping[str, Any], shown: Sequence[str]) -> "Model":
+    def _named(
+        self, method: str, name: Optional[str], keys: Mapping[str, Any], shown: Sequence[str]
+    ) -> "Model":
         """A shape or spring: named by its name if it has one, else by ``shown``."""
         if name is None:
             return self._entry(_Call(method, keys, shown=shown))
@@ -423,10 +430,12 @@ class Model:
         self._write(item, values, call)
         return self
 
-    def _set(self, section: _Section, keys: Mapping[str, Any], call: _Call, free: bool = False) -> None:
+    def _set(
+        self, section: _Section, keys: Mapping[str, Any], call: _Call, free: bool = False
+    ) -> None:
         values = self._checked(section, keys, call, free)
         if section.table == "meta" and "title" in values and values["title"] is None:
-            raise TypeError(f"{call.text('title')}: title: expected a string (a model has a title)")
+            raise TypeError(f"{call.text('title')}: title: expected a string (a model has one)")
         item = self._tables.setdefault(section.table, _Item(call))
         self._write(item, values, call)
 
@@ -439,7 +448,9 @@ class Model:
                 item.keys[key] = (value, call)
 
     @staticmethod
-    def _checked(section: _Section, keys: Mapping[str, Any], call: _Call, free: bool = False) -> Dict[str, Any]:
+    def _checked(
+        section: _Section, keys: Mapping[str, Any], call: _Call, free: bool = False
+    ) -> Dict[str, Any]:
         """The keys as plain Python values; ``TypeError`` naming the call for an unknown
         keyword or a value of the wrong type (``free``: any key, as ``[meta]``'s)."""
         values: Dict[str, Any] = {}
@@ -454,7 +465,8 @@ class Model:
             plain = _plain(value, kind)
             if plain is None:
                 raise TypeError(
-                    f"{call.text(key)}: {key}: expected {kind}, got {type(value).__name__} {_shown(value)}"
+                    f"{call.text(key)}: {key}: expected {kind}, "
+                    f"got {type(value).__name__} {_shown(value)}"
                 )
             problem = _unwritable(plain)
             if problem is not None:
@@ -484,7 +496,9 @@ class Model:
         text = "".join(line + "\n" for line, _ in lines)
         return text, [at for _, at in lines]
 
-    def _located(self, error: SceneError, lines: List[Tuple[_Call, Optional[str]]]) -> SceneError:
+    def _located(
+        self, error: SceneError, lines: List[Tuple[_Call, Optional[str]]]
+    ) -> SceneError:
         """``error`` of the scene reader restated at the builder call that wrote the value;
         an error of an override is returned as it is."""
         if getattr(error, "override", None) is not None:
@@ -496,12 +510,14 @@ class Model:
             call, argument = lines[min(error.line, len(lines)) - 1]
             found = (call, argument, argument or key or "")
         if found is None:
-            text = f"{self._title_call.text()}: {key + ': ' if key else ''}{message}"
-            located = _scene_error(text, self._title_call, None, key)
+            model = _Call("", {"title": self.title}, lead="title")
+            text = f"{model.text()}: {key + ': ' if key else ''}{message}"
+            located = _scene_error(text, model, None, key)
         else:
             call, argument, relative = found
             where = f"{relative}: " if relative else ""
-            located = _scene_error(f"{call.text(argument)}: {where}{message}", call, argument, key)
+            text = f"{call.text(argument)}: {where}{message}"
+            located = _scene_error(text, call, argument, key)
         for name in ("file", "line", "column", "override"):
             setattr(located, name, getattr(error, name, None))
         located.message = message
@@ -573,10 +589,13 @@ def _unknown(section: _Section, key: str) -> str:
         return f"unknown keyword '{key}'; did you mean '{close[0]}'?"
     elsewhere = [f"Model.{s.method}" for s in _SECTIONS if key in s.keys and s is not section]
     hint = f" (a key of {', '.join(elsewhere)})" if elsewhere else ""
-    return f"unknown keyword '{key}'{hint}; the keys of [{section.table}] are {', '.join(section.keys)}"
+    keys = ", ".join(section.keys)
+    return f"unknown keyword '{key}'{hint}; the keys of [{section.table}] are {keys}"
 
 
-def _scene_error(text: str, call: _Call, argument: Optional[str], key: Optional[str]) -> SceneError:
+def _scene_error(
+    text: str, call: _Call, argument: Optional[str], key: Optional[str]
+) -> SceneError:
     error = SceneError(text)
     error.call, error.argument, error.key = call.text(argument), argument, key
     error.file = error.line = error.column = error.override = None
@@ -594,8 +613,8 @@ def _document_methods() -> None:
         "body_contacts": "``[body_contacts]``: contacts between shapes of different bodies.",
         "controller": "``[controller]``: the controller and its parameters.",
         "initial": "``[initial]``: the initial state.",
-        "body": "A body (``[[bodies]]``), listed parents first; the same name again changes it.",
-        "shape": "A contact shape (``[[shapes]]``) in its body's frame; the same name again changes it.",
+        "body": "A body (``[[bodies]]``), parents first; the same name again changes it.",
+        "shape": "A contact shape (``[[shapes]]``); the same name again changes it.",
         "spring": "A linear spring between points of two bodies (``[[springs]]``).",
         "contact_pair": "An explicit body–body contact pair (``[[contact_pairs]]``).",
     }
