@@ -29,7 +29,7 @@ pub use hopsim_sim::{check_start, check_state, StartProblem, StateProblem, PENET
 pub use hopsim_sim::{check_steps, Settings, Setup, TooManySteps, DEFAULT_MAX_STEPS, MIN_DT};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
-pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
+pub use scene::{document, load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
 pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
 pub use settings::Meta;
 pub use tree::MAX_DEPTH;

@@ -69,16 +69,35 @@ fn read_bounded(path: &Path, limit: u64) -> Result<String, SceneError> {
     })
 }
 
-/// Validates scene `text` (read from `path`, which names it in errors) with `overrides`.
-pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
-    let src = Source { path, text };
-    let mut root = Node::parse_document(text).map_err(|(message, span)| SceneError::Syntax {
-        location: src.locate_offset(span.map_or(0, |s| s.start)),
-        message,
-    })?;
+/// The document of scene `text` with `overrides` applied, before validation.
+fn overridden(src: Source<'_>, overrides: &[Override]) -> Result<Node, SceneError> {
+    let mut root =
+        Node::parse_document(src.text).map_err(|(message, span)| SceneError::Syntax {
+            location: src.locate_offset(span.map_or(0, |s| s.start)),
+            message,
+        })?;
     for ov in overrides {
         apply(&mut root, ov)?;
     }
+    Ok(root)
+}
+
+/// The document the reader validates: scene `text` (read from `path`) with `overrides`
+/// applied, as TOML values, for a front end that rebuilds the scene in its own terms
+/// (Python's `Scene.model`). Not validated beyond TOML syntax and the overrides' paths.
+pub fn document(
+    text: &str,
+    path: &Path,
+    overrides: &[Override],
+) -> Result<toml::Table, SceneError> {
+    let root = overridden(Source { path, text }, overrides)?;
+    Ok(root.to_toml_table())
+}
+
+/// Validates scene `text` (read from `path`, which names it in errors) with `overrides`.
+pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    let src = Source { path, text };
+    let root = overridden(src, overrides)?;
     let top = Table::root(src, &root);
     top.allow_only(&[
         "meta",
