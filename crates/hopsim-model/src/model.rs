@@ -941,7 +941,11 @@ fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError
             Shape::Point { position } if !finite(position) => {
                 return bad("the point must be finite")
             }
-            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } if !positive(*radius) => {
+            Shape::Circle { radius, .. }
+            | Shape::Arc { radius, .. }
+            | Shape::Capsule { radius, .. }
+                if !positive(*radius) =>
+            {
                 return bad("radius must be positive and finite")
             }
             Shape::Arc { start, end, .. }
@@ -952,6 +956,9 @@ fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError
             }
             Shape::Ellipse { semi_x, semi_y, .. } if !positive(*semi_x) || !positive(*semi_y) => {
                 return bad("semi-axes must be positive and finite")
+            }
+            Shape::Capsule { from, to, .. } if !finite(from) || !finite(to) => {
+                return bad("the capsule's end points must be finite")
             }
             Shape::Polygon { vertices } if vertices.len() < 3 => {
                 return bad("a polygon needs at least three vertices")
@@ -1039,7 +1046,8 @@ fn limit_candidates(bodies: &[Body]) -> Vec<LimitCandidate> {
 
 /// Pairs every shape feature with every terrain feature it can touch: smooth boundaries
 /// (circle, arc, ellipse) with lines and corners, vertices (polygon corners, arc ends,
-/// points) with lines, a polygon's edges with corners.
+/// points, a capsule's end caps) with lines, a polygon's edges or a capsule's boundary
+/// with corners.
 fn candidates(
     bodies: &[Body],
     shapes: &[ShapeInstance],
@@ -1078,7 +1086,7 @@ fn candidates(
                     };
                     push(ShapeFeature::Vertex(k), label);
                 }
-            } else if matches!(inst.shape, Shape::Polygon { .. }) {
+            } else if matches!(inst.shape, Shape::Polygon { .. } | Shape::Capsule { .. }) {
                 push(ShapeFeature::Edges, String::new());
             }
         }

@@ -559,7 +559,9 @@ pub(crate) fn read_shapes(
         let body = bodies.resolve(t, "body")?;
         let kind = t.choice(
             "type",
-            &["circle", "arc", "ellipse", "point", "polygon", "box"],
+            &[
+                "circle", "arc", "ellipse", "point", "polygon", "box", "capsule",
+            ],
             None,
         )?;
         let name = match t.opt_str("name")? {
@@ -621,6 +623,11 @@ fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
         },
         "point" => Shape::Point {
             position: vec2(t.vec2("position", None, "m")?),
+        },
+        "capsule" => Shape::Capsule {
+            from: vec2(t.vec2("from", None, "m")?),
+            to: vec2(t.vec2("to", None, "m")?),
+            radius: t.f64("radius", length)?,
         },
         "box" => {
             let c = center()?;
