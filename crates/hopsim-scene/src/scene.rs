@@ -129,7 +129,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
 
     let instances = shapes.iter().map(|s| s.instance.clone()).collect();
-    let gravity = Vec2::new(0.0, -settings.gravity);
+    let gravity = Vec2::new(settings.gravity_x, -settings.gravity);
     let mut builder = ModelBuilder::new(bodies, instances, terrain, springs, gravity, material)
         .map_err(|e| {
             // The scene's own checks come first; should the model still object, place

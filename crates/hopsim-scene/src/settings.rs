@@ -23,6 +23,8 @@ pub struct Settings {
     pub dt: f64,
     /// Gravitational acceleration along `-y`, m/s².
     pub gravity: f64,
+    /// Gravitational acceleration along `+x`, m/s² (0 unless gravity is tilted).
+    pub gravity_x: f64,
     /// Frames recorded per second of simulated time, Hz (events are always recorded).
     pub record_rate: f64,
     /// `[summary] speed_window`: the mean speed (and Robbit's brakes per second and impulse
@@ -117,6 +119,7 @@ pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Sett
         duration,
         dt,
         gravity: sim.f64_or("gravity", 9.81, Num::non_negative("m/s²"))?,
+        gravity_x: sim.f64_or("gravity_x", 0.0, Num::any("m/s²"))?,
         record_rate: sim.f64_or("record_rate", 1000.0, Num::positive("Hz"))?,
         speed_window,
         cube_restitution: summary.f64_or("cube_restitution", 0.5, Num::range(0.0, 1.0, ""))?,
