@@ -69,6 +69,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::from(exit::INVALID_INPUT));
     }
     if !args.quiet {
+        for notice in &scene.notices {
+            eprintln!("notice: {notice}");
+        }
         for warning in hopsim_scene::warnings(&scene) {
             eprintln!("warning: {}: {warning}", scene.path.display());
         }

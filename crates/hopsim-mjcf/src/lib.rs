@@ -24,8 +24,10 @@ mod error;
 mod inertia;
 mod model;
 mod orient;
+mod overlap;
 mod planar;
 mod read;
+mod scene;
 mod tables;
 mod xml;
 
@@ -38,6 +40,7 @@ pub use model::{
 };
 pub use planar::PLANE_TOLERANCE;
 pub use read::MAX_ELEMENTS;
+pub use scene::{scene_toml, ImportError, SceneText, IMPORTED_DURATION};
 pub use xml::{MAX_FILE_BYTES, MAX_INCLUDE_DEPTH};
 
 /// How strictly to read.

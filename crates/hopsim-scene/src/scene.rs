@@ -48,6 +48,9 @@ pub struct Scene {
     pub switchable: Vec<usize>,
     /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
     pub coordinates: Vec<String>,
+    /// What the scene's source leaves out or expresses otherwise, one sentence each: the
+    /// text's `# notice: …` lines (written by [`crate::import_mjcf`]).
+    pub notices: Vec<String>,
 }
 
 impl Scene {
@@ -63,9 +66,21 @@ impl Scene {
     }
 }
 
+/// The start of a line of a scene's text that is a notice ([`Scene::notices`]).
+pub(crate) const NOTICE: &str = "# notice: ";
+
 /// Reads and validates the scene file at `path` with `overrides` applied. Reads at most
-/// [`MAX_SCENE_BYTES`].
+/// [`MAX_SCENE_BYTES`]. A MuJoCo model (`.xml`, [`crate::is_mjcf`]) is imported into the
+/// equivalent scene first ([`crate::import_mjcf`]); errors in that scene name it
+/// `<path> (imported)`.
 pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    if crate::is_mjcf(path) {
+        let text = crate::import_mjcf(path)?;
+        let imported = PathBuf::from(format!("{} (imported)", path.display()));
+        let mut scene = parse(&text, &imported, overrides)?;
+        scene.path = path.to_path_buf();
+        return Ok(scene);
+    }
     let text = read_bounded(path, MAX_SCENE_BYTES)?;
     parse(&text, path, overrides)
 }
@@ -193,6 +208,11 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         controller,
         switchable,
         coordinates,
+        notices: text
+            .lines()
+            .filter_map(|l| l.strip_prefix(NOTICE))
+            .map(str::to_string)
+            .collect(),
     })
 }
 
