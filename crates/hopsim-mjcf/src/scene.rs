@@ -258,25 +258,14 @@ pub fn scene_toml(model: &PlanarModel, source: &str) -> Result<SceneText, Import
             }
             continue;
         }
-        let shape = match &geom.shape {
-            Shape::Circle { center, radius } => Shape::Circle {
-                center: frame(*center),
-                radius: *radius,
-            },
-            Shape::Capsule { a, b, radius } => Shape::Capsule {
-                a: frame(*a),
-                b: frame(*b),
-                radius: *radius,
-            },
-            Shape::Polygon { vertices } => Shape::Polygon {
-                vertices: vertices.iter().map(|v| frame(*v)).collect(),
-            },
+        let shape = match transformed(&geom.shape, frame, -turn) {
             Shape::Ellipse {
                 center,
                 semi_axes,
                 angle,
             } => {
-                let turned = (angle - turn).rem_euclid(std::f64::consts::FRAC_PI_2);
+                // A scene's ellipse has its axes along its body's.
+                let turned = angle.rem_euclid(std::f64::consts::FRAC_PI_2);
                 if turned.min(std::f64::consts::FRAC_PI_2 - turned) > 1e-12 {
                     return Err(fail(format!(
                         "the ellipsoid {} is turned in the plane; a scene's ellipse has its \
@@ -284,18 +273,18 @@ pub fn scene_toml(model: &PlanarModel, source: &str) -> Result<SceneText, Import
                         geom_name(geom)
                     )));
                 }
-                let along = (angle - turn).cos().abs() > 0.5;
+                let along = angle.cos().abs() > 0.5;
                 Shape::Ellipse {
-                    center: frame(*center),
+                    center,
                     semi_axes: if along {
-                        *semi_axes
+                        semi_axes
                     } else {
                         [semi_axes[1], semi_axes[0]]
                     },
                     angle: 0.0,
                 }
             }
-            Shape::Line { .. } => continue,
+            shape => shape,
         };
         shapes.push((i, unique_shape_name(model, i, &shapes), link, shape));
     }
@@ -337,8 +326,12 @@ pub fn scene_toml(model: &PlanarModel, source: &str) -> Result<SceneText, Import
                 ));
                 continue;
             }
+            // Back into the world at reference.
             let world = |link: &Option<usize>, shape: &Shape| match link {
-                Some(l) => shape_in_world(shape, links[*l].center, links[*l].turn),
+                Some(l) => {
+                    let (center, turn) = (links[*l].center, links[*l].turn);
+                    transformed(shape, |p| center + rotate(turn, p), turn)
+                }
                 None => shape.clone(),
             };
             if overlap(&world(link_i, shape_i), &world(link_j, shape_j)) {
@@ -499,34 +492,32 @@ fn write_shape(t: &mut String, shape: &Shape) {
     };
 }
 
-/// A shape in a link's frame (centre `center`, turned by `turn`) put back into the world
-/// at reference.
-fn shape_in_world(shape: &Shape, center: Vec2, turn: f64) -> Shape {
-    let world = |p: Vec2| center + rotate(turn, p);
+/// `shape` with every point `p` moved to `point(p)`, a map that turns by `turn`.
+fn transformed(shape: &Shape, point: impl Fn(Vec2) -> Vec2, turn: f64) -> Shape {
     match shape {
         Shape::Circle { center, radius } => Shape::Circle {
-            center: world(*center),
+            center: point(*center),
             radius: *radius,
         },
         Shape::Capsule { a, b, radius } => Shape::Capsule {
-            a: world(*a),
-            b: world(*b),
+            a: point(*a),
+            b: point(*b),
             radius: *radius,
         },
         Shape::Polygon { vertices } => Shape::Polygon {
-            vertices: vertices.iter().map(|v| world(*v)).collect(),
+            vertices: vertices.iter().map(|v| point(*v)).collect(),
         },
         Shape::Ellipse {
             center,
             semi_axes,
             angle,
         } => Shape::Ellipse {
-            center: world(*center),
+            center: point(*center),
             semi_axes: *semi_axes,
             angle: angle + turn,
         },
-        Shape::Line { point, normal } => Shape::Line {
-            point: world(*point),
+        Shape::Line { point: p, normal } => Shape::Line {
+            point: point(*p),
             normal: rotate(turn, *normal),
         },
     }
