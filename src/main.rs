@@ -55,7 +55,7 @@ fn main() -> ExitCode {
         Ok(Ok(code)) => code,
         Ok(Err(err)) => {
             eprintln!("error: {}", error_chain(&err));
-            ExitCode::FAILURE
+            ExitCode::from(cmd::exit::of_error(&err))
         }
         Err(payload) => {
             eprintln!(

@@ -60,13 +60,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     if args.strict {
         extra.push(Override::from_flag("--strict", "simulation.strict", "true"));
     }
-    let scene = match args.scene.load(&extra) {
-        Ok(scene) => scene,
-        Err(code) => return Ok(code),
-    };
+    let scene = args.scene.load(&extra)?;
     if let Err(message) = check_output_paths(&args, &scene.path) {
-        eprintln!("error: {message}");
-        return Ok(ExitCode::from(exit::INVALID_INPUT));
+        return exit::invalid(message);
     }
     if !args.quiet {
         for notice in &scene.notices {

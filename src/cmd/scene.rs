@@ -6,8 +6,6 @@ use hopsim_scene::{Override, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use super::exit;
-
 /// A scene file with `--set` overrides.
 #[derive(Args, Clone)]
 pub struct SceneArgs {
@@ -20,15 +18,12 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
-    /// Loads the scene with the `--set` overrides and then `extra`; an invalid scene is
-    /// reported on stderr and becomes exit code 2.
-    pub fn load(&self, extra: &[Override]) -> Result<Scene, ExitCode> {
+    /// Loads the scene with the `--set` overrides and then `extra`; an invalid scene is a
+    /// [`hopsim_scene::SceneError`] (exit code 2).
+    pub fn load(&self, extra: &[Override]) -> anyhow::Result<Scene> {
         let mut overrides = self.overrides.clone();
         overrides.extend_from_slice(extra);
-        hopsim_scene::load(&self.scene, &overrides).map_err(|err| {
-            eprintln!("error: {err}");
-            ExitCode::from(exit::INVALID_INPUT)
-        })
+        Ok(hopsim_scene::load(&self.scene, &overrides)?)
     }
 }
 
@@ -71,10 +66,7 @@ pub enum SceneCommand {
 
 pub fn run(args: SceneCommandArgs) -> anyhow::Result<ExitCode> {
     let SceneCommand::Check(args) = args.command;
-    let scene = match args.load(&[]) {
-        Ok(scene) => scene,
-        Err(code) => return Ok(code),
-    };
+    let scene = args.load(&[])?;
     println!("{}: ok", args.scene.display());
     print!("{}", describe(&scene));
     for notice in &scene.notices {

@@ -27,12 +27,13 @@ mod warnings;
 
 pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
+pub use hopsim_sim::{check_start, check_state, StartProblem, StateProblem, PENETRATION_TOL};
+pub use hopsim_sim::{check_steps, Settings, Setup, TooManySteps, DEFAULT_MAX_STEPS, MIN_DT};
 pub use import::{import_mjcf, is_mjcf};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
 pub use scene::{load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};
 pub use schema::{axis_label, key_info, key_words, value_label, KeyInfo};
-pub use settings::{check_steps, Meta, Settings, TooManySteps, MIN_DT};
-pub use start::{check_start, check_state, StartProblem, StateProblem, PENETRATION_TOL};
+pub use settings::Meta;
 pub use tree::MAX_DEPTH;
 pub use warnings::{warnings, DAMPER_RATIO, IMPACT_TRAVEL, SPRING_OMEGA_DT, TURN_PER_STEP};

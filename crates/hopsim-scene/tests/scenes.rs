@@ -200,7 +200,7 @@ fn robbit_scenes_run_the_thesis_controls() {
 #[test]
 fn release_modes_and_their_timing_keys() {
     let release_of = |name: &str, overrides: &[&str]| -> Result<Release, String> {
-        match load(name, overrides)?.controller {
+        match load(name, overrides)?.setup.controller {
             ControllerConfig::MomentumImpulse(c) => Ok(c.release),
             other => panic!("{other:?}"),
         }

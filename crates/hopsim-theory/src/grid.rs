@@ -4,14 +4,14 @@
 use rayon::prelude::*;
 
 /// Called once for every finished grid cell, from any worker thread.
-pub type Progress<'a> = &'a (dyn Fn() + Sync);
+pub type CellDone<'a> = &'a (dyn Fn() + Sync);
 
-/// A [`Progress`] that ignores every report.
-pub const NO_PROGRESS: Progress<'static> = &|| {};
+/// A [`CellDone`] that ignores every report.
+pub const NO_PROGRESS: CellDone<'static> = &|| {};
 
 /// Maps `f` over `items` on all cores, calling `progress` once per finished item; the
 /// result keeps the order of `items`.
-pub fn par_map<T, R, F>(items: &[T], progress: Progress<'_>, f: F) -> Vec<R>
+pub fn par_map<T, R, F>(items: &[T], progress: CellDone<'_>, f: F) -> Vec<R>
 where
     T: Sync,
     R: Send,

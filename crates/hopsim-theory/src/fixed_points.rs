@@ -10,7 +10,7 @@
 //! true); stable iff all `|λ| < 1` [5.18]. docs/analysis.md §9.7–9.9.
 
 use crate::error::{AnalysisError, Result};
-use crate::grid::{par_map, Progress};
+use crate::grid::{par_map, CellDone};
 use crate::numerics::{eigenvalues_2x2, levenberg_marquardt_from, linspace, Complex, LmSettings};
 use crate::robbit::{cycle, return_map, Control, Cycle, NoCycle, RobbitParams, SectionState};
 use serde::Serialize;
@@ -428,7 +428,7 @@ impl FixedPointGrid {
 
     /// Solves every point in parallel (rayon), calling `progress` per point; row-major order
     /// (`E_TO` outer, `φ_TO` inner).
-    pub fn run(&self, progress: Progress<'_>) -> Result<Vec<GridPoint>> {
+    pub fn run(&self, progress: CellDone<'_>) -> Result<Vec<GridPoint>> {
         self.params.validate()?;
         if self.angles.is_empty() || self.energies.is_empty() {
             return Err(AnalysisError::invalid(

@@ -4,11 +4,11 @@
 //! extrapolated (× 225).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hopsim_analysis::fixed_points::{
+use hopsim_theory::fixed_points::{
     find_fixed_point, FixedPointGrid, SolverSettings, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE,
 };
-use hopsim_analysis::grid::NO_PROGRESS;
-use hopsim_analysis::robbit::{return_map, Control, RobbitParams, SectionState};
+use hopsim_theory::grid::NO_PROGRESS;
+use hopsim_theory::robbit::{return_map, Control, RobbitParams, SectionState};
 use std::hint::black_box;
 
 fn fixed_points(c: &mut Criterion) {

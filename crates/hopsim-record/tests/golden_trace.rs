@@ -10,36 +10,50 @@
 //! of the physics (a 1 % change of `μ` moves them by more than 1e-4 N s, checked below).
 //!
 //! A deliberate change of the physics regenerates the file with
-//! `HOPSIM_BLESS=1 cargo test -p hopsim-step --release --test golden_trace`; review the
+//! `HOPSIM_BLESS=1 cargo test -p hopsim-record --release --test golden_trace`; review the
 //! diff before committing it (docs/validation.md).
 
-mod common;
-use common::*;
-use hopsim_step::{ImpulseTrace, TraceTolerance};
+use hopsim_model::{ContactMaterial, Model, Shape, Terrain, Vec2};
+use hopsim_record::{ImpulseTrace, TraceTolerance};
+use hopsim_step::{Actuation, State, StepSettings, Stepper};
+use nalgebra::DVector;
 use std::path::Path;
 
 /// The drop-and-roll run with friction `mu`: its trace and the number of touchdowns.
 fn drop_and_roll(mu: f64) -> (ImpulseTrace, usize) {
     let (r, a) = (0.2, 0.1);
-    let model = eccentric_disc(1.405, 3.004e-3 + 1.543e-3, r, a, material(mu, 0.0));
+    let disc = Shape::Circle {
+        center: Vec2::new(0.0, a),
+        radius: r,
+    };
+    let material = ContactMaterial::inelastic(mu);
+    let model = Model::single_body(
+        1.405,
+        3.004e-3 + 1.543e-3,
+        disc,
+        Terrain::flat(0.0),
+        material,
+    )
+    .unwrap();
     let dt = 5e-4;
-    let mut st = stepper(&model, dt);
+    let mut stepper = Stepper::new(&model, StepSettings::strict(dt));
     let phi: f64 = 0.3;
-    let mut s = state(&[0.0, r - a * phi.cos() + 0.03, phi], &[4.0, 0.0, -20.0]);
+    let mut state = State {
+        t: 0.0,
+        q: DVector::from_vec(vec![0.0, r - a * phi.cos() + 0.03, phi]),
+        u: DVector::from_vec(vec![4.0, 0.0, -20.0]),
+    };
     let mut trace = ImpulseTrace::default();
     let mut touchdowns = 0;
     let mut was_in_contact = false;
-    run(
-        &model,
-        &mut st,
-        &mut s,
-        (0.5 / dt).round() as usize,
-        |_, rec| {
-            trace.push_record(&model, rec);
-            touchdowns += usize::from(rec.in_contact() && !was_in_contact);
-            was_in_contact = rec.in_contact();
-        },
-    );
+    let passive = Actuation::default();
+    stepper.start(&model, &state);
+    for _ in 0..(0.5 / dt).round() as usize {
+        let rec = stepper.step(&model, &mut state, &passive).expect("step");
+        trace.push_record(&model, rec);
+        touchdowns += usize::from(rec.in_contact() && !was_in_contact);
+        was_in_contact = rec.in_contact();
+    }
     (trace, touchdowns)
 }
 

@@ -21,7 +21,7 @@
 //! `+x`. A take-off is triggered when `φ` passes `φ_TO` (modulo `2π`) while decreasing.
 
 use crate::error::{require_finite, require_positive, AnalysisError, Result};
-use crate::grid::{par_map, Progress};
+use crate::grid::{par_map, CellDone};
 use crate::impact;
 use crate::numerics::{
     brent, dormand_prince_step, error_norm, first_sign_change_lipschitz, linspace, sinc,
@@ -1060,7 +1060,7 @@ impl CargoGrid {
 
     /// Runs every cell in parallel (rayon), calling `progress` per cell. Cells are returned in
     /// row-major order (`φ_TO` outer, `l/R` inner).
-    pub fn run(&self, progress: Progress<'_>) -> Result<Vec<GridCell>> {
+    pub fn run(&self, progress: CellDone<'_>) -> Result<Vec<GridCell>> {
         self.base.validate()?;
         for &ratio in &self.leg_over_radius {
             if !(ratio.is_finite() && ratio > 0.0 && ratio < 2.0) {
@@ -1088,7 +1088,7 @@ impl CargoGrid {
 
 /// One point of an animal sweep over the Table-3.1 ranges.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SweepPoint {
+pub struct AnimalPoint {
     /// `φ_TO` [rad].
     pub takeoff_angle: f64,
     /// `ΔE` [J].
@@ -1107,8 +1107,8 @@ pub fn sweep_case(
     base: &TemplateParams,
     n_angles: usize,
     n_energies: usize,
-    progress: Progress<'_>,
-) -> Result<Vec<SweepPoint>> {
+    progress: CellDone<'_>,
+) -> Result<Vec<AnimalPoint>> {
     base.validate()?;
     let ranges = case.ranges();
     let mut params = Vec::new();
@@ -1126,7 +1126,7 @@ pub fn sweep_case(
             Ok(run) => (run.summary, run.no_gait.map(|n| n.to_string())),
             Err(err) => (None, Some(err.to_string())),
         };
-        SweepPoint {
+        AnimalPoint {
             takeoff_angle: p.takeoff_angle,
             energy_input: p.energy_input,
             summary,

@@ -1,6 +1,6 @@
 //! Errors of the analyses: invalid parameters, singular impact problems.
 
-/// Everything that can go wrong in `hopsim-analysis`. Libraries never panic on user input:
+/// Everything that can go wrong in `hopsim-theory`. Libraries never panic on user input:
 /// bad parameters come back as [`AnalysisError::InvalidParameter`].
 #[derive(Debug, thiserror::Error)]
 pub enum AnalysisError {

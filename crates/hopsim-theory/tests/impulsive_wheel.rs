@@ -1,6 +1,6 @@
 //! The impulsive wheel's return map (docs/physics.md §5.5): closed forms against iteration.
 
-use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel};
+use hopsim_theory::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel};
 
 #[test]
 fn defaults_follow_physics_md() {

@@ -1,17 +1,17 @@
 //! Parameter sweeps: a scene run over the Cartesian product of grid axes, in parallel,
 //! with results in a deterministic order (docs/physics.md §5.3, the speed-versus-impulse map).
 
-use crate::{RunError, Summary};
 use hopsim_scene::{Override, Scene};
+use hopsim_sim::{RunError, Summary};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
 /// Called once per finished run of a sweep, from any thread.
-pub type Progress<'a> = &'a (dyn Fn() + Sync);
+pub type RunDone<'a> = &'a (dyn Fn() + Sync);
 
-/// A [`Progress`] that ignores the reports.
-pub const NO_PROGRESS: Progress<'static> = &|| {};
+/// A [`RunDone`] that ignores the reports.
+pub const NO_PROGRESS: RunDone<'static> = &|| {};
 
 /// One grid axis: a scene key and the values it takes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -131,7 +131,7 @@ pub fn sweep<R: Send>(
     base: &[Override],
     jobs: &[SweepJob],
     run: impl Fn(&Scene) -> Result<R, RunError> + Sync,
-    progress: Progress<'_>,
+    progress: RunDone<'_>,
 ) -> Vec<SweepPoint<R>> {
     jobs.par_iter()
         .map(|job| {
@@ -147,7 +147,7 @@ pub fn sweep<R: Send>(
             .unwrap_or_else(|payload| {
                 Err(format!(
                     "internal error: {}. This is a bug in hopsim; please report it",
-                    crate::panic_message(payload.as_ref())
+                    hopsim_sim::panic_message(payload.as_ref())
                 ))
             });
             progress();

@@ -8,9 +8,9 @@
 //! valgrind --tool=callgrind fixed_point_grid 10 > /dev/null
 //! ```
 
-use hopsim_analysis::fixed_points::{FixedPointGrid, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
-use hopsim_analysis::grid::NO_PROGRESS;
-use hopsim_analysis::robbit::{FlywheelAtTouchdown, RobbitParams};
+use hopsim_theory::fixed_points::{FixedPointGrid, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
+use hopsim_theory::grid::NO_PROGRESS;
+use hopsim_theory::robbit::{FlywheelAtTouchdown, RobbitParams};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {

@@ -1,11 +1,11 @@
 //! A wheel over a wall (docs/physics.md §5.2) against independent mechanics.
 
-use hopsim_analysis::impact::{apply_impulse, inelastic_impact, kinetic_energy};
-use hopsim_analysis::obstacle::{
+use hopsim_theory::impact::{apply_impulse, inelastic_impact, kinetic_energy};
+use hopsim_theory::obstacle::{
     compare_strategies, corner_impact_loss, corner_jacobian, rolling_cost, rotational_hop,
     rotational_hop_cost, trivial_hop_cost, RollingPath, Strategy, Wheel,
 };
-use hopsim_analysis::AnalysisError;
+use hopsim_theory::AnalysisError;
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 

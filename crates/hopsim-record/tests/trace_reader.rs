@@ -3,10 +3,7 @@
 //! random or mutated traces give a trace or an error, never a panic. 256 cases per
 //! property by default; `PROPTEST_CASES=100000` runs a longer campaign.
 
-use hopsim_step::{ImpulseSample, ImpulseTrace, TraceError};
-
-/// `hopsim_step::trace::MAX_TRACE_BYTES` (the module is private).
-const MAX_TRACE_BYTES: u64 = 1 << 30;
+use hopsim_record::{ImpulseSample, ImpulseTrace, TraceError, MAX_TRACE_BYTES};
 use proptest::prelude::*;
 use std::path::Path;
 

@@ -30,7 +30,7 @@
 //! in `docs/analysis.md`.
 
 use crate::error::{require_positive, AnalysisError, Result};
-use crate::grid::{par_map, Progress};
+use crate::grid::{par_map, CellDone};
 use crate::impact;
 use crate::numerics::{first_sign_change, golden_section_minimum, linspace};
 use crate::STANDARD_GRAVITY;
@@ -708,7 +708,7 @@ pub fn region_map_inertia_froude(
     height_ratio: f64,
     inertia_factors: &[f64],
     froudes: &[f64],
-    progress: Progress<'_>,
+    progress: CellDone<'_>,
 ) -> Result<Vec<RegionCell>> {
     region_map(
         height_ratio,
@@ -728,7 +728,7 @@ pub fn region_map_allometric(
     height_ratio: f64,
     masses: &[f64],
     speeds: &[f64],
-    progress: Progress<'_>,
+    progress: CellDone<'_>,
 ) -> Result<Vec<RegionCell>> {
     region_map(
         height_ratio,
@@ -749,7 +749,7 @@ fn region_map(
     height_ratio: f64,
     (x_name, xs): (&str, &[f64]),
     (y_name, ys): (&str, &[f64]),
-    progress: Progress<'_>,
+    progress: CellDone<'_>,
     cell: impl Fn(f64, f64) -> Result<RegionCell> + Sync,
 ) -> Result<Vec<RegionCell>> {
     let mut points = Vec::with_capacity(xs.len() * ys.len());

@@ -4,7 +4,8 @@
 //! benchmark runs a 4 × 4 grid of 20 s runs on all cores.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hopsim_sim::{grid_jobs, run, sweep, GridAxis, NO_PROGRESS};
+use hopsim_sim::run;
+use hopsim_studies::sweep::{grid_jobs, sweep, GridAxis, NO_PROGRESS};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;

@@ -1,16 +1,16 @@
 //! Robbit's reduced model (docs/physics.md §5.3) against independent mechanics: momentum and
 //! energy balances, the template's rigid-body impact, the iterated return map.
 
-use hopsim_analysis::fixed_points::{
+use hopsim_theory::fixed_points::{
     find_fixed_point, residual, return_map_jacobian, FixedPoint, FixedPointGrid, NoFixedPoint,
     SolverSettings,
 };
-use hopsim_analysis::robbit::{
+use hopsim_theory::robbit::{
     brake, cycle, return_map, stance, touchdown, Control, FlywheelAtTouchdown, NoCycle,
     RobbitParams, SectionState,
 };
-use hopsim_analysis::template::{self, BodyState};
-use hopsim_analysis::AnalysisError;
+use hopsim_theory::template::{self, BodyState};
+use hopsim_theory::AnalysisError;
 use proptest::prelude::*;
 
 fn table_5_1() -> RobbitParams {
@@ -312,7 +312,7 @@ fn no_lift_off_and_invalid_parameters() {
         Err(AnalysisError::InvalidParameter { .. })
     ));
     let grid = FixedPointGrid::new(bad, (-1.0, -0.1), (0.01, 0.1), 2, 2);
-    assert!(grid.run(hopsim_analysis::grid::NO_PROGRESS).is_err());
+    assert!(grid.run(hopsim_theory::grid::NO_PROGRESS).is_err());
 }
 
 /// A small grid: every point is classified (fixed point or a reason), fixed points are
@@ -321,7 +321,7 @@ fn no_lift_off_and_invalid_parameters() {
 fn small_grid_classifies_every_point() {
     let p = table_5_1();
     let grid = FixedPointGrid::new(p, (-1.2, 0.3), (0.01, 0.1), 4, 3);
-    let points = grid.run(hopsim_analysis::grid::NO_PROGRESS).unwrap();
+    let points = grid.run(hopsim_theory::grid::NO_PROGRESS).unwrap();
     assert_eq!(points.len(), 12);
     for (k, q) in points.iter().enumerate() {
         assert_eq!(q.angle, grid.angles[k % 4]);

@@ -1,6 +1,6 @@
 //! Collision matrix and applied impulses (docs/physics.md §3) against independent mechanics.
 
-use hopsim_analysis::impact::{
+use hopsim_theory::impact::{
     apply_impulse, collision_matrix, impulse_for_energy_gain, inelastic_impact, kinetic_energy,
 };
 use nalgebra::{DMatrix, DVector, SymmetricEigen};

@@ -1,11 +1,11 @@
 //! The eccentric-wheel template (docs/physics.md §5.1) against independent mechanics.
 
-use hopsim_analysis::template::{
+use hopsim_theory::template::{
     self, contact_jacobian, flight, gap, rolling_velocity, simulate, stance, stance_height,
     takeoff_impulse, touchdown, BodyState, CargoGrid, NoGaitReason, Phase, TemplateCase,
     TemplateParams, TemplateRun,
 };
-use hopsim_analysis::AnalysisError;
+use hopsim_theory::AnalysisError;
 use proptest::prelude::*;
 
 /// Energy computed here, independently of the crate: ½ m v² + ½ I ω² + m g y.

@@ -7,8 +7,8 @@
 //! one side counts as zero there, so a contact that touches with a vanishing percussion in
 //! one run and not at all in the other is not a difference.
 
-use crate::StepRecord;
 use hopsim_model::Model;
+use hopsim_step::StepRecord;
 use std::collections::hash_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
