@@ -2,6 +2,9 @@
 //! description ([`PlanarModel`]): bodies with their mass properties, hinge and slide joints
 //! numbered as MuJoCo's `qpos`, geoms as planar shapes, actuators and options.
 //!
+//! [`scene_toml`] writes a planar model as the equivalent hopsim scene (TOML text whose
+//! coordinates are MuJoCo's `qpos`), which `hopsim-scene` reads like any scene file.
+//!
 //! The plane is found from the joints, not assumed (docs/mjcf.md). Everything outside the
 //! supported subset is an error located at `file:line:column` naming the element and
 //! attribute; what is read without effect (visuals, solver settings, soft-contact
