@@ -43,6 +43,7 @@ pub fn scene_error(py: Python<'_>, error: &hopsim_scene::SceneError) -> PyErr {
         hopsim_scene::SceneError::Syntax { message, .. }
         | hopsim_scene::SceneError::Invalid { message, .. }
         | hopsim_scene::SceneError::Override { message, .. } => message.clone(),
+        hopsim_scene::SceneError::Import(message) => message.clone(),
     };
     let value = err.value(py);
     // Setting an attribute on a fresh exception instance does not fail.
@@ -154,7 +155,9 @@ impl PyScene {
 #[pymethods]
 impl PyScene {
     /// Reads the scene file at `path` with `overrides` (`{"controller.torque": 0.2}`)
-    /// applied. Raises `SceneError` (with file, line, column and key) when it is invalid.
+    /// applied; a MuJoCo model (`.xml`) is imported as its scene, its coordinates MuJoCo's
+    /// `qpos` (docs/mjcf.md). Raises `SceneError` (with file, line, column and key) when it
+    /// is invalid.
     #[staticmethod]
     #[pyo3(signature = (path, overrides = None))]
     fn load(
@@ -255,6 +258,13 @@ impl PyScene {
             d.set_item(&o.key, &o.value)?;
         }
         Ok(d)
+    }
+
+    /// What the scene's source leaves out or expresses otherwise (an imported MuJoCo
+    /// model's unmodelled parts), one sentence each.
+    #[getter]
+    fn notices(&self) -> Vec<String> {
+        self.scene.notices.clone()
     }
 
     /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.

@@ -65,6 +65,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         return exit::invalid(message);
     }
     if !args.quiet {
+        for notice in &scene.notices {
+            eprintln!("notice: {notice}");
+        }
         for warning in hopsim_scene::warnings(&scene) {
             eprintln!("warning: {}: {warning}", scene.path.display());
         }

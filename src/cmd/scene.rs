@@ -9,7 +9,8 @@ use std::process::ExitCode;
 /// A scene file with `--set` overrides.
 #[derive(Args, Clone)]
 pub struct SceneArgs {
-    /// The scene file (TOML), e.g. scenes/robbit.toml (format: docs/scene-format.md).
+    /// The scene file (TOML), e.g. scenes/robbit.toml (format: docs/scene-format.md), or a
+    /// MuJoCo model (.xml), imported as its scene (docs/mjcf.md).
     pub scene: PathBuf,
     /// Override any scene value (a number, string, bool or array), e.g. --set controller.torque=0.2 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -68,6 +69,9 @@ pub fn run(args: SceneCommandArgs) -> anyhow::Result<ExitCode> {
     let scene = args.load(&[])?;
     println!("{}: ok", args.scene.display());
     print!("{}", describe(&scene));
+    for notice in &scene.notices {
+        println!("notice: {notice}");
+    }
     for warning in hopsim_scene::warnings(&scene) {
         println!("warning: {warning}");
     }

@@ -51,6 +51,9 @@ pub enum SceneError {
     /// A `--set` argument that is not `key=value`.
     #[error("{text}: {message}")]
     Override { text: String, message: String },
+    /// A MuJoCo model that cannot be read or has no scene (the message names its place).
+    #[error("{0}")]
+    Import(String),
 }
 
 impl SceneError {

@@ -15,7 +15,7 @@ use hopsim_sim::{check_start, Setup, StartProblem, PENETRATION_TOL};
 use hopsim_step::State;
 use nalgebra::DVector;
 use std::ops::{Deref, DerefMut};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Largest scene file [`load`] reads, bytes (8 MiB: a hundred times the largest sensible
@@ -36,6 +36,9 @@ pub struct Scene {
     pub overrides: Vec<Override>,
     /// `[meta]`.
     pub meta: Meta,
+    /// What the scene's source leaves out or expresses otherwise, one sentence each: the
+    /// text's `# notice: …` lines (written by [`crate::import_mjcf`]).
+    pub notices: Vec<String>,
 }
 
 impl Deref for Scene {
@@ -52,9 +55,21 @@ impl DerefMut for Scene {
     }
 }
 
+/// The start of a line of a scene's text that is a notice ([`Scene::notices`]).
+pub(crate) const NOTICE: &str = "# notice: ";
+
 /// Reads and validates the scene file at `path` with `overrides` applied. Reads at most
-/// [`MAX_SCENE_BYTES`].
+/// [`MAX_SCENE_BYTES`]. A MuJoCo model (`.xml`, [`crate::is_mjcf`]) is imported into the
+/// equivalent scene first ([`crate::import_mjcf`]); errors in that scene name it
+/// `<path> (imported)`.
 pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    if crate::is_mjcf(path) {
+        let text = crate::import_mjcf(path)?;
+        let imported = PathBuf::from(format!("{} (imported)", path.display()));
+        let mut scene = parse(&text, &imported, overrides)?;
+        scene.path = path.to_path_buf();
+        return Ok(scene);
+    }
     let text = read_bounded(path, MAX_SCENE_BYTES)?;
     parse(&text, path, overrides)
 }
@@ -137,7 +152,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
 
     let instances = shapes.iter().map(|s| s.instance.clone()).collect();
-    let gravity = Vec2::new(0.0, -settings.gravity);
+    let gravity = Vec2::new(settings.gravity_x, -settings.gravity);
     let mut builder = ModelBuilder::new(bodies, instances, terrain, springs, gravity, material)
         .map_err(|e| {
             // The scene's own checks come first; should the model still object, place
@@ -203,6 +218,11 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         },
         overrides: overrides.to_vec(),
         meta,
+        notices: text
+            .lines()
+            .filter_map(|l| l.strip_prefix(NOTICE))
+            .map(str::to_string)
+            .collect(),
     })
 }
 

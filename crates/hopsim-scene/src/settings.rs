@@ -80,6 +80,7 @@ pub(crate) fn read_settings(sim: &Table<'_>, summary: &Table<'_>) -> Result<Sett
     let d = Settings::new(duration, dt);
     Ok(Settings {
         gravity: sim.f64_or("gravity", d.gravity, Num::non_negative("m/s²"))?,
+        gravity_x: sim.f64_or("gravity_x", d.gravity_x, Num::any("m/s²"))?,
         record_rate: sim.f64_or("record_rate", d.record_rate, Num::positive("Hz"))?,
         speed_window: window.map_or(d.speed_window, |w| w.min(duration)),
         cube_restitution: summary.f64_or(

@@ -36,6 +36,8 @@ pub struct Settings {
     pub dt: f64,
     /// Gravitational acceleration along `-y`, m/s².
     pub gravity: f64,
+    /// Gravitational acceleration along `+x`, m/s² (0 unless gravity is tilted).
+    pub gravity_x: f64,
     /// Frames recorded per second of simulated time, Hz (events are always recorded).
     pub record_rate: f64,
     /// `[summary] speed_window`: the mean speed (and Robbit's brakes per second and impulse
@@ -57,7 +59,7 @@ pub struct Settings {
 
 impl Settings {
     /// The settings of a run of `duration` s in steps of `dt` s with every other key at
-    /// the scene format's default (docs/scene-format.md): gravity 9.81 m/s², frames at
+    /// the scene format's default (docs/scene-format.md): gravity 9.81 m/s² down, frames at
     /// 1000 Hz, the speed window the run's second half, cube baseline `ε = 0.5`, not
     /// strict, warm start on, runaway above 1e4 m/s or rad/s, at most
     /// [`DEFAULT_MAX_STEPS`] steps. For models built in code; the reader starts from it.
@@ -66,6 +68,7 @@ impl Settings {
             duration,
             dt,
             gravity: 9.81,
+            gravity_x: 0.0,
             record_rate: 1000.0,
             speed_window: (duration / 2.0).max(dt).min(duration),
             cube_restitution: 0.5,

@@ -11,7 +11,7 @@ use hopsim_model::{Kinematics, Model, Shape, Vec2};
 use hopsim_step::State;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query::contact;
-use parry2d_f64::shape::{Ball, ConvexPolygon, SharedShape};
+use parry2d_f64::shape::{Ball, Capsule, ConvexPolygon, SharedShape};
 use std::f64::consts::TAU;
 
 /// Gaps below `-PENETRATION_TOL` at a start state are refused, m (or rad for a stop).
@@ -314,6 +314,14 @@ fn solid_of(shape: &Shape) -> Option<(Vec2, SharedShape)> {
     match shape {
         Shape::Circle { center, radius } => Some((*center, SharedShape::new(Ball::new(*radius)))),
         Shape::Point { position } => Some((*position, SharedShape::new(Ball::new(0.0)))),
+        Shape::Capsule { from, to, radius } => Some((
+            Vec2::zeros(),
+            SharedShape::new(Capsule::new(
+                Vector::new(from.x, from.y),
+                Vector::new(to.x, to.y),
+                *radius,
+            )),
+        )),
         Shape::Arc {
             center,
             radius,

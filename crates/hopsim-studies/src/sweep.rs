@@ -180,6 +180,7 @@ pub fn length_scale(scene: &Scene) -> f64 {
             semi_y,
         } => center.norm() + semi_x.max(*semi_y),
         Shape::Point { position } => position.norm(),
+        Shape::Capsule { from, to, radius } => from.norm().max(to.norm()) + radius,
         Shape::Polygon { vertices } => vertices.iter().map(|v| v.norm()).fold(0.0, f64::max),
     };
     let size = (scene.model.shapes().iter())
