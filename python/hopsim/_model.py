@@ -10,6 +10,7 @@ whose errors are mapped back to the call and argument that wrote the value.
 from __future__ import annotations
 
 import difflib
+import keyword
 import math
 import numbers
 import re
@@ -61,6 +62,7 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("duration", NUMBER, "simulated time, s; required, > 0"),
         ("dt", NUMBER, "step size Δt, s; required, > 0 and < duration"),
         ("gravity", NUMBER, "gravitational acceleration along −y, m/s² (9.81)"),
+        ("gravity_x", NUMBER, "gravitational acceleration along +x, m/s² (0)"),
         ("record_rate", NUMBER, "frames per simulated second in recordings, Hz (1000)"),
         ("strict", BOOL, "stop on the first contact LCP without a certified solution (False)"),
         ("warm_start", BOOL, "solve each contact LCP first from the last basis (True)"),
@@ -72,7 +74,7 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("cube_restitution", NUMBER, "restitution of the second cube baseline (0.5)"),
     )),
     _Section("environment", "environment", False, (
-        ("terrain", STRING, '"flat" (default), "incline" or "step"'),
+        ("terrain", STRING, '"flat" (default), "incline", "step" or "none"'),
         ("height", NUMBER, "flat: the ground is y = height, m (0)"),
         ("angle", NUMBER, "incline: the plane through the origin rising towards +x, rad"),
         ("step_x", NUMBER, "step: x of the step's face, m"),
@@ -88,9 +90,10 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("axis", VEC2, "a prismatic joint's direction in the parent's frame"),
         ("pivot", VEC2, "the joint in the parent's frame (a pinned base: world point), m"),
         ("com", VEC2, "this body's centre of mass relative to the joint, own frame, m"),
-        ("coordinate", STRING, 'a revolute joint: "relative" (default) or "absolute"'),
+        ("coordinate", STRING, 'a revolute joint: "relative" (default), "clockwise" or "absolute"'),
         ("coordinate_name", STRING, "the coordinate's name in recordings and CSV"),
         ("damping", NUMBER, "viscous joint damping, N m s/rad or N s/m (0)"),
+        ("armature", NUMBER, "added to the mass matrix at the joint's coordinate, kg m² or kg (0)"),
         ("stiffness", NUMBER, "joint spring, N m/rad or N/m (0)"),
         ("rest_position", NUMBER, "the joint spring's rest position, rad or m (0)"),
         ("limits", VEC2, "[lower, upper] end stops of the joint position, rad or m"),
@@ -100,7 +103,7 @@ _SECTIONS: Tuple[_Section, ...] = (
     )),
     _Section("shapes", "shape", True, (
         ("body", STRING, "the body carrying the shape; required"),
-        ("type", STRING, '"circle", "arc", "ellipse", "point", "polygon" or "box"; required'),
+        ("type", STRING, '"circle", "arc", "ellipse", "point", "polygon", "box" or "capsule"; required'),
         ("name", STRING, "unique (default <body>_<type>)"),
     ) + _MATERIAL + (
         ("switchable", BOOL, "switched by the controller (a cane); starts off (False)"),
@@ -116,6 +119,8 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("vertices", POINTS, "polygon: convex, counter-clockwise, at least 3, m"),
         ("half_width", NUMBER, "box: m"),
         ("half_height", NUMBER, "box: m"),
+        ("from", VEC2, "capsule: one end of its segment in the body frame, m (keyword from_)"),
+        ("to", VEC2, "capsule: the other end, m"),
     )),
     _Section("springs", "spring", True, (
         ("name", STRING, "default spring<i>"),
@@ -455,6 +460,9 @@ class Model:
         keyword or a value of the wrong type (``free``: any key, as ``[meta]``'s)."""
         values: Dict[str, Any] = {}
         for key, value in keys.items():
+            # A key that is a Python keyword (a capsule's `from`) is written `from_`.
+            if key.endswith("_") and keyword.iskeyword(key[:-1]):
+                key = key[:-1]
             known = section.keys.get(key)
             if known is None and not free:
                 raise TypeError(f"{call.text()}: {_unknown(section, key)}")

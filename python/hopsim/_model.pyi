@@ -22,6 +22,7 @@ class Model:
         duration: Optional[float] = ...,
         dt: Optional[float] = ...,
         gravity: Optional[float] = ...,
+        gravity_x: Optional[float] = ...,
         record_rate: Optional[float] = ...,
         strict: Optional[bool] = ...,
         warm_start: Optional[bool] = ...,
@@ -61,6 +62,7 @@ class Model:
         coordinate: Optional[str] = ...,
         coordinate_name: Optional[str] = ...,
         damping: Optional[float] = ...,
+        armature: Optional[float] = ...,
         stiffness: Optional[float] = ...,
         rest_position: Optional[float] = ...,
         limits: Optional[_Vec2] = ...,
@@ -90,6 +92,8 @@ class Model:
         vertices: Optional[Sequence[_Vec2]] = ...,
         half_width: Optional[float] = ...,
         half_height: Optional[float] = ...,
+        from_: Optional[_Vec2] = ...,
+        to: Optional[_Vec2] = ...,
     ) -> "Model": ...
     def spring(
         self,

@@ -2,6 +2,7 @@
 builder call and argument; Scene.model gives back the scene it came from."""
 
 import ast
+import keyword
 import math
 import pickle
 import random
@@ -104,6 +105,25 @@ def test_a_hopper_in_code_falls_freely_hops_and_is_recorded(hopsim_bin, tmp_path
     np.testing.assert_array_equal(recording.u, trajectory.u)
 
 
+def test_a_capsule_is_given_with_from_and_lands_on_both_caps():
+    """`from` is a Python keyword: the builder takes `from_` and writes `from`. A rod with
+    round ends (a capsule 0.4 m long, 2 cm radius) dropped flat rests on both end caps."""
+    model = (
+        hopsim.Model("rod")
+        .simulation(duration=0.5, dt=1e-3)
+        .body("rod", mass=1.0, inertia=1.4e-2)
+        .shape("rod", body="rod", type="capsule", from_=[-0.2, 0.0], to=[0.2, 0.0], radius=0.02)
+        .initial(q=[0.0, 0.05, 0.0])
+    )
+    assert "from = [-0.2, 0.0]" in model.toml()
+    sim = hopsim.Simulation(model.scene())
+    sim.run()
+    loaded = [c for c in sim.contacts() if c["impulse_normal"] > 0.0]
+    assert len(loaded) == 2
+    total = sum(c["impulse_normal"] for c in loaded)
+    assert total == pytest.approx(9.81 * 1e-3, rel=1e-6)
+
+
 def test_a_model_is_swept_like_a_scene():
     scene = hopper_in_code().scene()
     table = hopsim.sweep(scene, grid={"bodies.body.mass": [1.0, 2.0]})
@@ -144,8 +164,8 @@ def reader_keys(model, path, overrides=None):
 
 
 def test_the_builder_knows_the_keys_the_scene_reader_knows():
-    """Every table of every bundled scene, and the terrains no bundled scene uses: the
-    builder's keywords are the reader's keys, no more and no fewer."""
+    """Every table of every bundled scene, and the terrains and shapes no bundled scene
+    uses: the builder's keywords are the reader's keys, no more and no fewer."""
     known = {s.table: set() for s in hopsim._model._SECTIONS if s.table != "meta"}
     for path in bundled_scenes():
         model = hopsim.Scene.load(path).model
@@ -161,6 +181,14 @@ def test_the_builder_knows_the_keys_the_scene_reader_knows():
                     {"environment.terrain": "step", "environment.step_x": 1.0,
                      "environment.step_height": 0.05}):
         known["environment"] |= reader_keys(robbit, "environment", terrain)
+    # A capsule: no bundled scene has one.
+    rod = (
+        hopsim.Model("rod")
+        .simulation(duration=1.0, dt=1e-3)
+        .body("rod", mass=1.0, inertia=1e-2)
+        .shape("rod", body="rod", type="capsule", from_=[-0.1, 0.0], to=[0.1, 0.0], radius=0.02)
+    )
+    known["shapes"] |= reader_keys(rod, "shapes.0")
     for table, keys in known.items():
         assert set(hopsim._model._BY_TABLE[table].keys) == keys, table
 
@@ -470,4 +498,6 @@ def test_the_type_stub_has_every_keyword():
     for section in hopsim._model._SECTIONS:
         args = methods[section.method]
         names = [a.arg for a in args.args[1:] + args.kwonlyargs]
+        # A key that is a Python keyword (a capsule's `from`) is the keyword `from_`.
+        names = [n[:-1] if n.endswith("_") and keyword.iskeyword(n[:-1]) else n for n in names]
         assert sorted(names) == sorted(section.keys), section.method
