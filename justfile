@@ -29,6 +29,23 @@ bench:
 bench-peers:
     bash benches/peers/run.sh
 
+# Mutation testing (cargo-mutants, release profile) of the LCP solver's core files and the
+# contact geometry, each against its crate's tests; results in out/mutants-*/mutants.out
+# (installs cargo-mutants if missing; an hour or two on two cores; docs/validation.md)
+mutants:
+    command -v cargo-mutants >/dev/null || cargo install --locked cargo-mutants --version '^27'
+    -CARGO_PROFILE_RELEASE_INCREMENTAL=true CARGO_PROFILE_RELEASE_DEBUG=false cargo mutants \
+        -p hopsim-lcp --test-package hopsim-lcp --profile release --cargo-test-arg=--tests \
+        --minimum-test-timeout 30 --output out/mutants-lcp \
+        -f crates/hopsim-lcp/src/certificate.rs -f crates/hopsim-lcp/src/lemke.rs \
+        -f crates/hopsim-lcp/src/lemke/warm.rs -f crates/hopsim-lcp/src/primary.rs \
+        -f crates/hopsim-lcp/src/tableau.rs -f crates/hopsim-lcp/src/enumerate.rs
+    CARGO_PROFILE_RELEASE_INCREMENTAL=true CARGO_PROFILE_RELEASE_DEBUG=false cargo mutants \
+        -p hopsim-model --test-package hopsim-model --profile release --cargo-test-arg=--tests \
+        --minimum-test-timeout 60 --output out/mutants-model \
+        -f crates/hopsim-model/src/contact.rs -f crates/hopsim-model/src/pairs.rs \
+        -f crates/hopsim-model/src/ellipse.rs
+
 # Formatting and lints, as CI checks them
 lint:
     cargo fmt --all -- --check
@@ -40,4 +57,4 @@ ci:
 
 # Generated mechanisms, a long campaign (docs/reliability.md, "Generated mechanisms")
 fuzz cases="200000":
-    HOPSIM_GEN_CASES={{cases}} cargo test --release -p hopsim-gen --test generated_mechanisms
+    HOPSIM_GEN_CASES={{cases}} HOPSIM_GEN_SEED=random cargo test --release -p hopsim-gen --test generated_mechanisms

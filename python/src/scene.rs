@@ -243,7 +243,7 @@ impl PyScene {
     #[getter]
     fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
-        for (i, b) in self.scene.model.bodies.iter().enumerate() {
+        for (i, b) in self.scene.model.bodies().iter().enumerate() {
             let d = PyDict::new(py);
             d.set_item("index", i)?;
             d.set_item("name", &b.name)?;
@@ -257,7 +257,7 @@ impl PyScene {
 
     /// The index of the body called `name`.
     fn body_index(&self, name: &str) -> PyResult<usize> {
-        let bodies = &self.scene.model.bodies;
+        let bodies = &self.scene.model.bodies();
         bodies.iter().position(|b| b.name == name).ok_or_else(|| {
             let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
             PyValueError::new_err(format!(
@@ -270,14 +270,14 @@ impl PyScene {
     /// Names of the contact shapes, in model order (the indices of `switch_shape`).
     #[getter]
     fn shapes(&self) -> Vec<String> {
-        let shapes = &self.scene.model.shapes;
+        let shapes = &self.scene.model.shapes();
         shapes.iter().map(|s| s.name.clone()).collect()
     }
 
     /// Names of the potential contacts (shape feature against terrain feature).
     #[getter]
     fn contacts(&self) -> Vec<String> {
-        let contacts = &self.scene.model.contacts;
+        let contacts = &self.scene.model.contacts();
         contacts.iter().map(|c| c.name.clone()).collect()
     }
 

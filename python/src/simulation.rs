@@ -167,7 +167,7 @@ impl PyActuation {
 impl PyActuation {
     /// Refuses commands that name a body or shape the scene does not have.
     fn check(&self, scene: &Scene) -> PyResult<()> {
-        let (bodies, shapes) = (scene.model.bodies.len(), scene.model.shapes.len());
+        let (bodies, shapes) = (scene.model.bodies().len(), scene.model.shapes().len());
         let body = |b: usize| -> PyResult<()> {
             if b < bodies {
                 Ok(())
@@ -196,7 +196,7 @@ impl PyActuation {
         }
         for f in &a.joint_forces {
             body(f.body)?;
-            if scene.model.bodies[f.body].joint.is_none() {
+            if scene.model.bodies()[f.body].joint.is_none() {
                 return Err(PyValueError::new_err(format!(
                     "joint_force names body {}, which has no joint",
                     f.body
@@ -566,7 +566,7 @@ impl PySimulation {
         let sim = self.shared();
         let model = &self.scene.model;
         contact_list(py, &sim.stepper().record().contacts, |i| {
-            (model.contacts[i].name.as_str(), None)
+            (model.contacts()[i].name.as_str(), None)
         })
     }
 
@@ -579,8 +579,8 @@ impl PySimulation {
         let sim = self.shared();
         let model = &self.scene.model;
         contact_list(py, &sim.stepper().record().pair_contacts, |i| {
-            let pair = &model.pairs[i];
-            let shape = |s: usize| model.shapes[s].name.as_str();
+            let pair = &model.pairs()[i];
+            let shape = |s: usize| model.shapes()[s].name.as_str();
             (
                 pair.name.as_str(),
                 Some((shape(pair.probe), shape(pair.target))),

@@ -91,7 +91,10 @@ fn describe(scene: &Scene) -> String {
         ControllerConfig::Passive => "passive".to_string(),
         ControllerConfig::MomentumImpulse(c) => format!(
             "momentum-stored impulse on '{}' (T = {} N m, ζ0 = {} N m s), {}",
-            m.bodies[c.flywheel].name, c.torque, c.impulse_limit, c.release
+            m.bodies()[c.flywheel].name,
+            c.torque,
+            c.impulse_limit,
+            c.release
         ),
         ControllerConfig::Pulse(c) => {
             let (what, unit) = if c.drives_force(m) {
@@ -101,7 +104,11 @@ fn describe(scene: &Scene) -> String {
             };
             format!(
                 "{what} pulse on '{}' (±{} {unit} for {} s every {:.4} s), cane {}",
-                m.bodies[c.joint_body].name, c.torque, c.pulse_duration, c.period, c.cane
+                m.bodies()[c.joint_body].name,
+                c.torque,
+                c.pulse_duration,
+                c.period,
+                c.cane
             )
         }
     };
@@ -110,12 +117,12 @@ fn describe(scene: &Scene) -> String {
          contacts     {} potential\n  springs      {}\n  controller   {controller}\n  \
          simulation   {} s in steps of {} s, recorded at {} Hz\n",
         scene.title,
-        names(&mut m.bodies.iter().map(|b| b.name.as_str())),
+        names(&mut m.bodies().iter().map(|b| b.name.as_str())),
         scene.coordinates.len(),
         scene.coordinates.join(", "),
-        names(&mut m.shapes.iter().map(|s| s.name.as_str())),
-        m.contacts.len(),
-        m.springs.len(),
+        names(&mut m.shapes().iter().map(|s| s.name.as_str())),
+        m.contacts().len(),
+        m.springs().len(),
         s.duration,
         s.dt,
         s.record_rate,

@@ -100,7 +100,7 @@ pub struct PulseConfig {
 impl PulseConfig {
     /// Whether the pulse is a force along a prismatic joint (N) rather than a torque (N m).
     pub fn drives_force(&self, model: &hopsim_model::Model) -> bool {
-        model.bodies[self.joint_body]
+        model.bodies()[self.joint_body]
             .joint
             .as_ref()
             .is_some_and(|j| matches!(j.kind, hopsim_model::JointKind::Prismatic { .. }))

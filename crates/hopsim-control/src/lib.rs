@@ -71,8 +71,8 @@ impl ControllerConfig {
 
 /// Lowest gap of an enabled-or-not shape against the terrain (`+∞` if it touches nothing).
 pub fn shape_gap(model: &Model, kinematics: &Kinematics, shape: usize) -> f64 {
-    (0..model.contacts.len())
-        .filter(|&i| model.contacts[i].shape == shape)
+    (0..model.contacts().len())
+        .filter(|&i| model.contacts()[i].shape == shape)
         .filter_map(|i| model.contact_geometry(kinematics, i))
         .map(|g| g.gap)
         .fold(f64::INFINITY, f64::min)

@@ -26,9 +26,9 @@ pub struct MomentumImpulse {
 impl MomentumImpulse {
     /// A controller for `model`, whose flywheel body is `config.flywheel`.
     pub fn new(config: MomentumImpulseConfig, model: &Model) -> Self {
-        let flywheel = &model.bodies[config.flywheel];
+        let flywheel = &model.bodies()[config.flywheel];
         let disc = flywheel.joint.as_ref().and_then(|j| j.parent).unwrap_or(0);
-        let (i_s, i_r) = (model.bodies[disc].inertia, flywheel.inertia);
+        let (i_s, i_r) = (model.bodies()[disc].inertia, flywheel.inertia);
         Self {
             config,
             disc,

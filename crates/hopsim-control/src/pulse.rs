@@ -56,7 +56,7 @@ impl Controller for Pulse {
     ) {
         let t = input.state.t + 0.5 * input.dt;
         let (body, value) = (self.config.joint_body, self.torque_at(t));
-        let joint = input.model.bodies[body].joint.as_ref();
+        let joint = input.model.bodies()[body].joint.as_ref();
         match joint.map(|j| j.kind) {
             // A force along the axis, its reaction on the parent (docs/physics.md §7).
             Some(JointKind::Prismatic { .. }) => actuation

@@ -21,7 +21,7 @@ fn show(v: &StepView<'_>) {
         .chain(r.pair_contacts.iter().map(|c| (c, true)))
     {
         let i = if pair {
-            v.model.contacts.len() + c.contact
+            v.model.contacts().len() + c.contact
         } else {
             c.contact
         };
@@ -35,7 +35,11 @@ fn show(v: &StepView<'_>) {
     for l in &r.limits {
         println!(
             "  stop {:<19} gap={:+.3e} Λ={:.4e} γA={:+.4e} γE={:+.4e}",
-            v.model.limits[l.limit].name, l.gap, l.impulse, l.velocity_before, l.velocity_after
+            v.model.limits()[l.limit].name,
+            l.gap,
+            l.impulse,
+            l.velocity_before,
+            l.velocity_after
         );
     }
 }

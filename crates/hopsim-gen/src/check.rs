@@ -32,6 +32,9 @@ pub struct RunFigures {
     pub lcp_failures: u64,
     /// Largest `|balance error|` of the energy account (docs/physics.md §6.1), J.
     pub max_balance_error: f64,
+    /// Largest signed balance error, J: energy the scheme added beyond what the account
+    /// explains (a negative error is energy the scheme lost).
+    pub max_balance_gain: f64,
     /// The run's energy scale: the largest `E_kin + |V − V_0| + V_s` and `|work|` seen, J.
     pub energy_scale: f64,
     /// Mechanical energy at the end minus at the start minus the actuators' work, J
@@ -84,7 +87,7 @@ impl Checker {
         let (tol, impulse_tol) = tolerances(view.record.resolution);
         let step = view.record.step;
         let (material, name) = if pair {
-            let i = view.model.contacts.len() + c.contact;
+            let i = view.model.contacts().len() + c.contact;
             (view.model.material(i), view.model.contact_name(i))
         } else {
             (
@@ -174,14 +177,15 @@ impl Observer for Checker {
         }
         if !record.lcp_failed {
             for l in record.limits.iter().filter(|l| !l.locked) {
-                let e = view.model.limits[l.limit].restitution;
+                let e = view.model.limits()[l.limit].restitution;
                 let xi = l.velocity_after + e * l.velocity_before;
                 if l.impulse < 0.0 || xi < -tol || (l.impulse > 0.0 && xi > tol) {
                     self.fail(
                         record.step,
                         format!(
                             "stop {}: Λ = {:e} with ξ = {xi:e}",
-                            view.model.limits[l.limit].name, l.impulse
+                            view.model.limits()[l.limit].name,
+                            l.impulse
                         ),
                     );
                 }
@@ -189,17 +193,7 @@ impl Observer for Checker {
         }
         let e = &record.energy;
         let potential0 = *self.potential0.get_or_insert(e.potential);
-        let works = [
-            e.actuator_work,
-            e.contact_work,
-            e.limit_work,
-            e.lock_work,
-            e.damping_work,
-        ];
-        let scale = works.iter().fold(
-            e.kinetic + (e.potential - potential0).abs() + e.spring,
-            |m, w| m.max(w.abs()),
-        );
+        let scale = e.scale(potential0);
         if !scale.is_finite() {
             self.fail(record.step, format!("a non-finite energy account {e:?}"));
         }
@@ -208,6 +202,7 @@ impl Observer for Checker {
         f.lcp_failures += u64::from(record.lcp_failed);
         f.energy_scale = f.energy_scale.max(scale);
         f.max_balance_error = f.max_balance_error.max(e.balance_error().abs());
+        f.max_balance_gain = f.max_balance_gain.max(e.balance_error());
         f.energy_gain = e.total() - e.initial - e.actuator_work;
         f.max_damping_gain = f
             .max_damping_gain

@@ -1,14 +1,15 @@
 //! Every generated mechanism runs without a panic, obeys its contact laws in every step
 //! and reports finite figures (docs/reliability.md, "Generated mechanisms").
 //!
-//! The budget is `HOPSIM_GEN_CASES` cases (default 4000: CI's, well under a minute);
+//! The budget is `HOPSIM_GEN_CASES` cases (default 4000: CI's, well under a minute) of a
+//! fixed draw (`HOPSIM_GEN_SEED`);
 //! `just fuzz` runs a long campaign. Seeds proptest shrank to a failure are kept in
 //! `proptest-regressions/` beside this file and run first, every time.
 
 use hopsim_gen::{genes, run_and_check, Mechanism, Outcome, RunFigures};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use proptest::test_runner::{Config, FileFailurePersistence};
+use proptest::test_runner::{Config, FileFailurePersistence, RngSeed};
 use std::sync::Mutex;
 
 fn cases() -> u32 {
@@ -18,12 +19,23 @@ fn cases() -> u32 {
         .unwrap_or(4000)
 }
 
+/// The draw: fixed (`HOPSIM_GEN_SEED`, default 2027) so that CI meets the same cases on
+/// every run; `HOPSIM_GEN_SEED=random` (as `just fuzz` runs) draws new ones each time.
+fn seed() -> RngSeed {
+    match std::env::var("HOPSIM_GEN_SEED") {
+        Ok(v) if v == "random" => RngSeed::Random,
+        Ok(v) => RngSeed::Fixed(v.parse().expect("HOPSIM_GEN_SEED: a u64 or `random`")),
+        Err(_) => RngSeed::Fixed(2027),
+    }
+}
+
 /// Counts of the outcomes, printed at the end (`--nocapture`).
 static TALLY: Mutex<[u64; 3]> = Mutex::new([0; 3]);
 
 proptest! {
     #![proptest_config(Config {
         cases: cases(),
+        rng_seed: seed(),
         failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("regressions"))),
         max_shrink_iters: 2000,
         ..Config::default()
@@ -49,10 +61,12 @@ proptest! {
 }
 
 /// The energy bounds of docs/reliability.md ("Generated mechanisms"): a damper never adds
-/// energy; a passive run of a scene without warnings keeps its balance error, and gains at
-/// most, 5 % of its energy scale (the midpoint scheme's `O(Δt)` in the generated range of
-/// `Δt`, e.g. from the velocity-product terms of light bodies turning fast); a passive run
-/// that gains more was warned about.
+/// energy; a passive run of a scene without warnings gains at most 5 % of its energy
+/// scale, and its energy account never shows the scheme adding more than that (the
+/// midpoint scheme's `O(Δt)` in the generated range of `Δt`); a passive run that gains
+/// more was warned about. The scheme may lose more (a light body turning fast while a heavy
+/// one slides through its joint): the run's summary reports that
+/// (`hopsim_sim::BALANCE_WARNING`, crates/hopsim-sim/tests/physics_cases.rs).
 fn check_energy(m: &Mechanism, f: &RunFigures) -> Result<(), String> {
     let scale = f.energy_scale;
     if f.max_damping_gain > 1e-12 * scale + 1e-15 {
@@ -75,10 +89,10 @@ fn check_energy(m: &Mechanism, f: &RunFigures) -> Result<(), String> {
             f.energy_gain
         ));
     }
-    if f.max_balance_error > 0.05 * scale + 1e-9 {
+    if f.max_balance_gain > 0.05 * scale + 1e-9 {
         return Err(format!(
-            "balance error {:e} J of {scale:e} J",
-            f.max_balance_error
+            "the scheme added {:e} J of {scale:e} J beyond the account",
+            f.max_balance_gain
         ));
     }
     Ok(())

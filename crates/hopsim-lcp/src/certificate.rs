@@ -137,7 +137,8 @@ impl ProblemRef<'_> {
         let mut complementarity: f64 = 0.0;
         let mut most_negative: f64 = 0.0;
         let mut residual: f64 = 0.0;
-        let mut sum = 0.0;
+        // 0, or NaN once a value is not finite (see [`finite_or_nan`]).
+        let mut nonfinite = 0.0;
         // `z` in the units of `w` (a zero `M` leaves `z` as it is).
         let z_unit = if self.m_norm > 0.0 { self.m_norm } else { 1.0 };
         for ((&zi, &wi), &ri) in z.iter().zip(w).zip(mz.iter()) {
@@ -156,15 +157,17 @@ impl ProblemRef<'_> {
             };
             let r = (wi - ri).abs();
             residual = if r > residual { r } else { residual };
-            sum += zi + wi;
+            // `r` is not finite when `w_i` or `(M z + q)_i` is not, nor so when `z_i` is.
+            nonfinite += finite_or_nan(r);
         }
-        if !sum.is_finite() {
+        let scale = self.q_norm.max(self.m_norm * z_norm).max(f64::MIN_POSITIVE);
+        // (An overflow of `‖M‖ z_i` makes the scale infinite.)
+        if !(nonfinite + scale).is_finite() {
             // The comparisons above skip NaN: make a non-finite iterate fail loudly.
             complementarity = f64::NAN;
             most_negative = f64::NAN;
             residual = f64::NAN;
         }
-        let scale = self.q_norm.max(self.m_norm * z_norm).max(f64::MIN_POSITIVE);
         Certificate {
             complementarity,
             most_negative,
@@ -173,6 +176,13 @@ impl ProblemRef<'_> {
             matrix_norm: self.m_norm,
         }
     }
+}
+
+/// 0 for a finite `x`, NaN otherwise: summed, it flags a non-finite value without the
+/// overflow a sum of huge finite values would cause.
+#[inline(always)]
+pub(crate) fn finite_or_nan(x: f64) -> f64 {
+    x * 0.0
 }
 
 /// `max(acc, |v|)` as the certificate accumulates `‖z‖_∞` (a NaN `v` is skipped; the
@@ -187,8 +197,8 @@ pub(crate) fn max_abs(acc: f64, v: f64) -> f64 {
     }
 }
 
-/// `(‖q‖_∞, min_i q_i, Σ q_i)` in one pass. The maximum and minimum skip NaN; the sum
-/// does not, so a non-finite sum flags a non-finite entry (or an overflow).
+/// `(‖q‖_∞, min_i q_i, Σ q_i)` in one pass. The maximum and minimum skip NaN and are exact
+/// whatever the sum does; a non-finite sum flags a non-finite entry, or an overflow.
 #[inline(always)]
 pub(crate) fn vector_stats(q: &[f64]) -> (f64, f64, f64) {
     let (mut norm, mut min, mut sum) = (0.0_f64, f64::INFINITY, 0.0);

@@ -18,4 +18,8 @@ pub enum LcpInputError {
     /// Every covering-vector entry must be finite and strictly positive.
     #[error("covering vector entry {index} is {value}; it must be finite and > 0")]
     CoveringNotPositive { index: usize, value: f64 },
+    /// The certificate's relative tolerance must be in `(0, 1)`: from 1 up, `z = 0` would
+    /// certify for every `q`.
+    #[error("relative tolerance {value} must be > 0 and < 1")]
+    Tolerance { value: f64 },
 }

@@ -29,7 +29,7 @@ pub struct LemkeOptions {
     pub max_pivots: Option<usize>,
     /// Covering vector `d > 0`; `None`: all ones.
     pub covering: Option<Vec<f64>>,
-    /// Relative tolerance of the certificate (see [`Certificate`]).
+    /// Relative tolerance of the certificate (see [`Certificate`]), in `(0, 1)`.
     pub rel_tol: f64,
     /// Largest `n` for which the exhaustive enumeration fallback runs (capped at 20).
     pub enumeration_limit: usize,
@@ -169,16 +169,20 @@ impl LemkeSolver {
             sol.certificate = Certificate::default();
             return Ok(&self.sol);
         }
-        set_len(&mut self.sol.z, n);
-        set_len(&mut self.sol.w, n);
         let q = q.as_slice();
+        let m = MatRef::new(&m);
+        if self.sol.z.len() != n {
+            // The last answer stays as it was unless this call answers.
+            primary::check_finite(m, q)?;
+            set_len(&mut self.sol.z, n);
+            set_len(&mut self.sol.w, n);
+        }
         let settings = Settings {
             rel_tol: self.options.rel_tol,
             max_pivots: self.max_pivots(n),
         };
         let z = self.sol.z.as_mut_slice();
         let w = self.sol.w.as_mut_slice();
-        let m = MatRef::new(&m);
         let prim = &mut self.prim;
         primary::primary(&mut self.work, m, q, z, w, &settings, prim)?;
         let sol = &mut self.sol;
@@ -196,11 +200,15 @@ impl LemkeSolver {
         Ok(&self.sol)
     }
 
-    /// Checks the configured covering vector for size `n` and writes it into `work.cover`
-    /// (growing the buffers to `n`).
+    /// Checks the options (the tolerance, the configured covering vector for size `n`)
+    /// and writes the covering vector into `work.cover` (growing the buffers to `n`).
     #[cold]
     #[inline(never)]
     fn load_cover(&mut self, n: usize) -> Result<(), LcpInputError> {
+        let rel_tol = self.options.rel_tol;
+        if !(rel_tol > 0.0 && rel_tol < 1.0) {
+            return Err(LcpInputError::Tolerance { value: rel_tol });
+        }
         if let Some(d) = &self.options.covering {
             if d.len() != n {
                 return Err(LcpInputError::CoveringLength { n, len: d.len() });
@@ -261,8 +269,15 @@ impl LemkeSolver {
         };
         self.extract(n, scales);
         let cert = p.certify(&self.zs[..n], &self.ws[..n], self.work.parts(n).mz);
+        // An iterate that certifies (data within the tolerance of zero) is a solution: a
+        // failure status never carries a certificate that holds.
+        let status = if cert.holds() {
+            LcpStatus::Solved
+        } else {
+            status
+        };
         self.commit(n, status, SolveMethod::Lemke, cert, pivots);
-        if !self.options.fallback {
+        if !self.options.fallback || status == LcpStatus::Solved {
             return;
         }
         let mut pivots = pivots;

@@ -502,7 +502,8 @@ pub(crate) fn add_abs_column(row_sum: &mut [f64], col: &[f64]) {
 }
 
 /// `‖M‖_∞` from the absolute row sums of `M` (padded with zeros to a multiple of 4):
-/// infinite if one of them is not finite or their sum overflows.
+/// infinite if one of them is not finite or their sum overflows (then see
+/// `primary::checked_norm`).
 #[inline(always)]
 pub(crate) fn norm_of_row_sums(row_sum: &[f64]) -> f64 {
     // Four lanes: independent chains. The sum exposes NaN and ∞ (max skips NaN).
@@ -690,7 +691,8 @@ pub(crate) fn extract(
     let (z, w) = (&mut z[..n], &mut w[..n]);
     z.fill(0.0);
     w.fill(0.0);
-    // The unscaled values: a finite tableau entry can still overflow when unscaled.
+    // The unscaled values: a finite tableau entry can still overflow when unscaled. (A sum
+    // that overflows with finite values only sends the basis to the refinement.)
     let mut sum = 0.0;
     for (&x, &v) in t.tab[..n].iter().zip(&t.basis[..n]) {
         if v < n {
@@ -932,4 +934,50 @@ fn pivot_updates(
     }
     let c = 1 + leaving;
     eliminate_unit(&mut tab[c * ld..c * ld + la], inv, col, hot);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `pow2_floor` is the largest power of two not above `|x|` (1 for zero, subnormal and
+    /// non-finite `x`), and `inv_pow2_floor` its exact reciprocal, over the whole range.
+    #[test]
+    fn powers_of_two_below_a_number_and_their_reciprocals() {
+        for (x, p) in [
+            (1.0, 1.0),
+            (3.0, 2.0),
+            (0.75, 0.5),
+            (1e-300, 2f64.powi(-997)),
+            (f64::MIN_POSITIVE, f64::MIN_POSITIVE),
+            (f64::MAX, 2f64.powi(1023)),
+            (-6.0, 4.0),
+        ] {
+            assert_eq!(pow2_floor(x), p, "{x:e}");
+            assert_eq!(inv_pow2_floor(x) * p.abs(), 1.0, "{x:e}");
+        }
+        // 2^1023 has a subnormal reciprocal.
+        assert_eq!(inv_pow2_floor(1.5e308), 2f64.powi(-1023));
+        for x in [0.0, 5e-324, 1e-310, f64::INFINITY, f64::NAN] {
+            assert_eq!((pow2_floor(x), inv_pow2_floor(x)), (1.0, 1.0), "{x:e}");
+        }
+    }
+
+    /// The exposed part of an [`Aligned`] starts on a 64-byte boundary and holds what was
+    /// reserved, also in a clone.
+    #[test]
+    fn aligned_buffers_start_on_a_cache_line() {
+        let mut a = Aligned::default();
+        for len in [1, 5, 8, 100, 3, 1000] {
+            a.reserve(len);
+            assert!(a.as_slice().len() >= len);
+            assert_eq!(a.as_slice().as_ptr() as usize % 64, 0, "len {len}");
+            assert_eq!(a.as_mut_slice().as_ptr() as usize % 64, 0);
+        }
+        a.as_mut_slice()[..3].copy_from_slice(&[1.0, 2.0, 3.0]);
+        let b = a.clone();
+        assert_eq!(b.as_slice()[..3], [1.0, 2.0, 3.0]);
+        assert_eq!(b.as_slice().as_ptr() as usize % 64, 0);
+        assert!(b.as_slice().len() >= 1000);
+    }
 }

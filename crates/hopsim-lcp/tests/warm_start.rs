@@ -150,3 +150,104 @@ fn a_failed_warm_attempt_leaves_the_last_answer() {
     ));
     assert_eq!(solver.solution(), &before);
 }
+
+/// `(M, q)` of size `n` whose answer has the basis `basic` with `M_BB` the reversed
+/// identity (every column of its elimination needs a row exchange; an odd size's middle
+/// row does not) and `z_B = 1, 2, 3, …` (exact), decoupled rows off the basis with
+/// `w = 1`; and that basis remembered from `(I, ±1)`.
+fn reversed_basis(basic: &[bool]) -> (DMatrix<f64>, DVector<f64>, LemkeSolver, WarmStart) {
+    let n = basic.len();
+    let index: Vec<usize> = (0..n).filter(|&i| basic[i]).collect();
+    let k = index.len();
+    let mut m = DMatrix::identity(n, n);
+    let mut q = DVector::from_element(n, 1.0);
+    for (a, &i) in index.iter().enumerate() {
+        m[(i, i)] = 0.0;
+        m[(i, index[k - 1 - a])] = 1.0;
+        // Row i reads z at index[k − 1 − a], whose value is k − a.
+        q[i] = -((k - a) as f64);
+    }
+    let (mut solver, mut warm) = (LemkeSolver::default(), WarmStart::default());
+    let flags = DVector::from_fn(n, |i, _| if basic[i] { -1.0 } else { 1.0 });
+    let id = DMatrix::<f64>::identity(n, n);
+    solver
+        .solve_warm(id.as_view(), flags.as_view(), &mut warm)
+        .unwrap();
+    assert_eq!(warm.basis(), Some(basic));
+    (m, q, solver, warm)
+}
+
+/// The warm path's Gaussian elimination exchanges rows: a remembered basis whose `M_BB`
+/// has zeros on its diagonal is solved warm, exactly, on every size the warm path compiles
+/// on its own (1 … 6) and on the generic one, with every basis size.
+#[test]
+fn a_basis_needing_row_exchanges_is_solved_warm() {
+    for n in 1..=10 {
+        for mask in [u32::MAX, 0b1011_0110, 0b0110_1101, 0b11, 0b1_1100] {
+            let basic: Vec<bool> = (0..n).map(|i| mask & (1 << i) != 0).collect();
+            if !basic.contains(&true) {
+                continue;
+            }
+            let (m, q, mut solver, mut warm) = reversed_basis(&basic);
+            let sol = solver
+                .solve_warm(m.as_view(), q.as_view(), &mut warm)
+                .unwrap();
+            assert_eq!(sol.method, SolveMethod::WarmStart, "n = {n}, {basic:?}");
+            let mut value = 0.0;
+            for i in 0..n {
+                if basic[i] {
+                    value += 1.0;
+                    assert_eq!((sol.z[i], sol.w[i]), (value, 0.0), "n = {n}, {basic:?}");
+                } else {
+                    assert_eq!((sol.z[i], sol.w[i]), (0.0, 1.0), "n = {n}, {basic:?}");
+                }
+            }
+        }
+    }
+}
+
+/// `M_BB = s [[1, 1], [1, 1 + δ]]` with `s = 1024` and `q_B = −s (1, 1)`: the basis solves
+/// to `z_B = (1, 0)`, which certifies. The elimination's second pivot is `s δ`; a pivot at
+/// most `1e-13` times the largest entry of `M_BB` counts as singular, so `δ = 1e-14` (or
+/// 0) hands over to Lemke's method and `δ = 1e-12` is answered warm; on the sizes compiled
+/// on their own and the generic one (the basis padded by decoupled rows).
+#[test]
+fn the_warm_path_refuses_a_numerically_singular_basis() {
+    let s = 1024.0;
+    for n in 2..=9 {
+        for (delta, warm_answer) in [(0.0, false), (1e-14, false), (1e-12, true), (1e-3, true)] {
+            let mut m = DMatrix::identity(n, n);
+            m[(0, 0)] = s;
+            m[(0, 1)] = s;
+            m[(1, 0)] = s;
+            m[(1, 1)] = s * (1.0 + delta);
+            let mut q = DVector::from_element(n, 1.0);
+            q[0] = -s;
+            q[1] = -s;
+            let mut basic = vec![false; n];
+            basic[..2].fill(true);
+            let mut solver = LemkeSolver::default();
+            let mut warm = WarmStart::default();
+            let flags = DVector::from_fn(n, |i, _| if basic[i] { -1.0 } else { 1.0 });
+            let id = DMatrix::<f64>::identity(n, n);
+            solver
+                .solve_warm(id.as_view(), flags.as_view(), &mut warm)
+                .unwrap();
+            let sol = solver
+                .solve_warm(m.as_view(), q.as_view(), &mut warm)
+                .unwrap();
+            assert_eq!(sol.status, LcpStatus::Solved);
+            assert_eq!(
+                sol.method == SolveMethod::WarmStart,
+                warm_answer,
+                "n = {n}, δ = {delta:e}: {:?}",
+                sol.method
+            );
+            // (With δ ≤ 1e-14 any split of z_1 + z_2 = 1 certifies.)
+            assert!((sol.z[0] + sol.z[1] - 1.0).abs() <= 1e-9, "{}", sol.z);
+            if warm_answer {
+                assert_eq!((sol.z[0], sol.z[1]), (1.0, 0.0));
+            }
+        }
+    }
+}

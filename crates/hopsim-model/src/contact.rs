@@ -122,14 +122,14 @@ impl DiscOnLine {
     /// The shortcut for potential contact `i` of `model`, if it is a circle's boundary
     /// against a line without ends.
     pub(crate) fn new(model: &Model, i: usize) -> Option<Self> {
-        let contact = &model.contacts[i];
-        let instance = &model.shapes[contact.shape];
+        let contact = &model.contacts()[i];
+        let instance = &model.shapes()[contact.shape];
         let (Shape::Circle { center, radius }, ShapeFeature::Smooth) =
             (&instance.shape, contact.feature)
         else {
             return None;
         };
-        let line = *model.terrain.features.get(contact.terrain)?;
+        let line = *model.terrain().features.get(contact.terrain)?;
         match line {
             TerrainFeature::Line {
                 normal, from, to, ..

@@ -34,7 +34,7 @@ impl Damper {
     pub fn rate(&self, model: &Model, kinematics: &Kinematics) -> f64 {
         match *self {
             Damper::Joint { body, .. } => {
-                let joint = model.bodies[body].joint.as_ref().expect("a jointed body");
+                let joint = model.bodies()[body].joint.as_ref().expect("a jointed body");
                 match (joint.kind, joint.parent) {
                     (JointKind::Revolute, Some(p)) => {
                         kinematics.angular_velocity(body) - kinematics.angular_velocity(p)
@@ -49,7 +49,7 @@ impl Damper {
                 dir,
                 ..
             } => {
-                let s = &model.springs[spring];
+                let s = &model.springs()[spring];
                 dir.dot(
                     &(kinematics.point_velocity(s.body_a, ra)
                         - kinematics.point_velocity(s.body_b, rb)),
@@ -70,7 +70,7 @@ impl Damper {
                 dir,
                 ..
             } => {
-                let s = &model.springs[spring];
+                let s = &model.springs()[spring];
                 kinematics.add_point_force_to(s.body_a, ra, value * dir, out);
                 kinematics.add_point_force_to(s.body_b, rb, -value * dir, out);
             }
@@ -85,12 +85,12 @@ impl Model {
         &'a self,
         kinematics: &'a Kinematics,
     ) -> impl Iterator<Item = Damper> + 'a {
-        let joints = self.bodies.iter().enumerate().filter_map(|(body, b)| {
+        let joints = self.bodies().iter().enumerate().filter_map(|(body, b)| {
             let c = b.joint.as_ref()?.damping;
             (c != 0.0).then_some(Damper::Joint { body, c })
         });
         let springs = self
-            .springs
+            .springs()
             .iter()
             .enumerate()
             .filter(|(_, s)| s.damping != 0.0)
@@ -115,17 +115,17 @@ impl Model {
     /// damping coefficient.
     pub fn damper_capacity(&self) -> usize {
         let joints = self
-            .bodies
+            .bodies()
             .iter()
             .filter(|b| b.joint.as_ref().is_some_and(|j| j.damping != 0.0))
             .count();
-        joints + self.springs.iter().filter(|s| s.damping != 0.0).count()
+        joints + self.springs().iter().filter(|s| s.damping != 0.0).count()
     }
 
     /// Whether the damping matrix `C` is the same at every state: no spring damper (whose
     /// row turns with the spring), so with a constant Jacobian `C` is constant too.
     pub fn damping_rows_follow_jacobian(&self) -> bool {
-        self.springs.iter().all(|s| s.damping == 0.0)
+        self.springs().iter().all(|s| s.damping == 0.0)
     }
 
     /// The dampers acting at the kinematics' positions: their coefficients `c` into

@@ -3,8 +3,11 @@
 //!
 //! One pass over the bodies (parents before children) computes everything; each body's
 //! rotation `(sin θ, cos θ)` is evaluated once and only for bodies whose geometry needs it.
+//! What the model's structure decides (which bodies need a rotation, the Jacobian's
+//! sparsity and constancy) is the model's (`crate::structure`); a `Kinematics` holds
+//! per-state data only.
 
-use crate::contact::DiscOnLine;
+use crate::structure::is_zero;
 use crate::{perp, JointCoordinate, JointKind, Model, Vec2};
 use nalgebra::{DVector, DVectorViewMut};
 
@@ -60,11 +63,6 @@ struct BodyFrame {
     /// Joint position and velocity (see [`Kinematics::joint_position`]).
     joint_position: f64,
     joint_rate: f64,
-    /// Whether the body's rotation is needed (shapes, springs, offsets on it).
-    needs_rotation: bool,
-    /// Whether the body pivots at its parent's centre of mass, which is also its own (a
-    /// revolute joint with zero pivot and centre-of-mass offsets, as Robbit's flywheel).
-    centred: bool,
 }
 
 /// The kinematics of a [`Model`] at one `(q, u)`: poses, velocities, Jacobians and
@@ -77,23 +75,11 @@ pub struct Kinematics {
     dof: usize,
     /// Pose, velocity, rotation, bias and joint state of each body.
     frames: Vec<BodyFrame>,
-    /// The shortcut of each potential terrain contact that is a circle on a line without
-    /// ends (see [`Model::contact_geometry`]).
-    discs_on_lines: Vec<Option<DiscOnLine>>,
-    /// Row-major `3B × n`: rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`.
+    /// Row-major `3B × n`: rows `3b, 3b+1, 3b+2` hold `∂(x_b, y_b, θ_b)/∂q` of body `b`;
+    /// entries outside the model's pattern stay zero.
     jacobian: Vec<f64>,
-    /// Sorted columns of the structurally non-zero entries of Jacobian row `r`:
-    /// `pattern[pattern_start[r]..pattern_start[r + 1]]` (a body depends on the base and
-    /// its ancestors' joints only); every other entry stays zero.
-    pattern: Vec<usize>,
-    pattern_start: Vec<usize>,
-    /// See [`Kinematics::jacobian_is_constant`].
-    jacobian_constant: bool,
     /// The Jacobian rows have been written once (a constant Jacobian is not rewritten).
     jacobian_written: bool,
-    /// `Σ_b J_bᵀ m_b g`, the generalised weight, written with a constant Jacobian (see
-    /// [`Kinematics::constant_weight`]).
-    weight: Vec<f64>,
     /// Three zero rows of length `n`: the world's Jacobian.
     zero_rows: Vec<f64>,
 }
@@ -101,63 +87,26 @@ pub struct Kinematics {
 impl Kinematics {
     /// Buffers sized for `model`.
     pub fn new(model: &Model) -> Self {
-        let nb = model.bodies.len();
-        let mut needs_rotation = vec![false; nb];
-        for s in &model.shapes {
-            needs_rotation[s.body] = true;
-        }
-        for s in &model.springs {
-            needs_rotation[s.body_a] |= s.point_a != Vec2::zeros();
-            needs_rotation[s.body_b] |= s.point_b != Vec2::zeros();
-        }
-        for (b, body) in model.bodies.iter().enumerate() {
-            if let Some(j) = &body.joint {
-                needs_rotation[b] |= j.com_in_child != Vec2::zeros();
-                let prismatic = matches!(j.kind, JointKind::Prismatic { .. });
-                if let Some(p) = j.parent {
-                    // A prismatic axis turns with the parent.
-                    needs_rotation[p] |= j.pivot_in_parent != Vec2::zeros() || prismatic;
-                }
-            }
-        }
-        let frames = model
-            .bodies
-            .iter()
-            .zip(needs_rotation)
-            .map(|(body, needs_rotation)| BodyFrame {
-                position: Vec2::zeros(),
-                angle: 0.0,
-                angular_velocity: 0.0,
-                velocity: Vec2::zeros(),
-                rotation: Rotation {
-                    sin: f64::NAN,
-                    cos: f64::NAN,
-                },
-                bias: Vec2::zeros(),
-                joint_position: 0.0,
-                joint_rate: 0.0,
-                needs_rotation,
-                centred: body.joint.as_ref().is_some_and(|j| {
-                    matches!(j.kind, JointKind::Revolute)
-                        && is_zero(j.pivot_in_parent)
-                        && is_zero(j.com_in_child)
-                }),
-            })
-            .collect();
-        let (pattern, pattern_start, jacobian_constant) = jacobian_pattern(model);
+        let frame = BodyFrame {
+            position: Vec2::zeros(),
+            angle: 0.0,
+            angular_velocity: 0.0,
+            velocity: Vec2::zeros(),
+            rotation: Rotation {
+                sin: f64::NAN,
+                cos: f64::NAN,
+            },
+            bias: Vec2::zeros(),
+            joint_position: 0.0,
+            joint_rate: 0.0,
+        };
+        let (nb, n) = (model.bodies().len(), model.dof());
         Self {
-            dof: model.dof(),
-            frames,
-            discs_on_lines: (0..model.contacts.len())
-                .map(|i| DiscOnLine::new(model, i))
-                .collect(),
-            jacobian: vec![0.0; 3 * nb * model.dof()],
-            pattern,
-            pattern_start,
-            jacobian_constant,
+            dof: n,
+            frames: vec![frame; nb],
+            jacobian: vec![0.0; 3 * nb * n],
             jacobian_written: false,
-            weight: vec![0.0; model.dof()],
-            zero_rows: vec![0.0; 3 * model.dof()],
+            zero_rows: vec![0.0; 3 * n],
         }
     }
 
@@ -176,16 +125,18 @@ impl Kinematics {
         assert!(q.len() == n && u.len() == n, "q and u need {n} entries");
         // Entries outside the sparsity pattern are never written: they stay zero. A
         // constant Jacobian is written once.
-        let write_jacobian = !(self.jacobian_constant && self.jacobian_written);
+        let structure = &model.structure;
+        let jacobian_constant = structure.jacobian_constant;
+        let write_jacobian = !(jacobian_constant && self.jacobian_written);
         self.jacobian_written = true;
-        for (b, body) in model.bodies.iter().enumerate() {
+        for ((b, body), constants) in model.bodies().iter().enumerate().zip(&structure.bodies) {
             let coord = model.first_coordinate[b];
             let Some(joint) = body.joint.as_ref() else {
                 // A floating base: (x, y, φ) are its own coordinates.
                 let frame = &mut self.frames[b];
                 frame.position = Vec2::new(q[coord], q[coord + 1]);
                 frame.angle = q[coord + 2];
-                if frame.needs_rotation {
+                if constants.needs_rotation {
                     frame.rotation = Rotation::new(q[coord + 2]);
                 }
                 frame.bias = Vec2::zeros();
@@ -231,10 +182,10 @@ impl Kinematics {
                         JointCoordinate::Absolute => (q[coord] - p_angle, u[coord] - wp),
                         JointCoordinate::Relative => (q[coord], u[coord]),
                     };
-                    if frame.needs_rotation {
+                    if constants.needs_rotation {
                         frame.rotation = Rotation::new(angle);
                     }
-                    let centred = frame.centred;
+                    let centred = constants.centred;
                     let (r_pivot, r_com) = if centred {
                         (Vec2::zeros(), Vec2::zeros())
                     } else {
@@ -245,7 +196,7 @@ impl Kinematics {
                     };
                     // J̇_b u: the centripetal accelerations of the pivot and of the CoM about it
                     // (with a constant Jacobian `J̇ = 0`: the bias keeps its zeros).
-                    if !self.jacobian_constant {
+                    if !jacobian_constant {
                         frame.bias = p_bias - r_pivot * (wp * wp) - r_com * (rate * rate);
                     }
                     frame.angle = angle;
@@ -287,7 +238,7 @@ impl Kinematics {
                     let (s, rate_s) = (q[coord], u[coord]);
                     let frame = &mut self.frames[b];
                     (frame.joint_position, frame.joint_rate) = (s, rate_s);
-                    if frame.needs_rotation {
+                    if constants.needs_rotation {
                         frame.rotation = p_rotation;
                     }
                     frame.angle = p_angle;
@@ -300,7 +251,7 @@ impl Kinematics {
                     frame.velocity = p_velocity + lever * wp + e * rate_s;
                     // Centripetal and Coriolis accelerations: −ω² r + 2 ω ṡ perp(e) (zero with
                     // a constant Jacobian).
-                    if !self.jacobian_constant {
+                    if !jacobian_constant {
                         frame.bias = p_bias - r * (wp * wp) + perp(e) * (2.0 * wp * rate_s);
                     }
                     if !write_jacobian {
@@ -333,14 +284,6 @@ impl Kinematics {
                     frame.velocity = Vec2::zeros();
                 }
             }
-        }
-        if write_jacobian && self.jacobian_constant {
-            let mut weight = std::mem::take(&mut self.weight);
-            weight.fill(0.0);
-            for (b, body) in model.bodies.iter().enumerate() {
-                self.add_point_force_to(b, Vec2::zeros(), body.mass * model.gravity, &mut weight);
-            }
-            self.weight = weight;
         }
     }
 
@@ -388,12 +331,6 @@ impl Kinematics {
     #[inline]
     pub fn velocity(&self, b: usize) -> Vec2 {
         self.frames[b].velocity
-    }
-
-    /// The shortcut of potential contact `i` if it is a circle on a line without ends.
-    #[inline]
-    pub(crate) fn disc_on_line(&self, i: usize) -> Option<&DiscOnLine> {
-        self.discs_on_lines.get(i).and_then(Option::as_ref)
     }
 
     /// Number of bodies.
@@ -446,34 +383,6 @@ impl Kinematics {
         let (x, rest) = rows.split_at(n);
         let (y, t) = rest.split_at(n);
         (x, y, t)
-    }
-
-    /// The sorted columns where Jacobian row `row` (`3b + k`, `k` = x, y, θ) can be non-zero.
-    #[inline]
-    pub fn jacobian_pattern(&self, row: usize) -> &[usize] {
-        &self.pattern[self.pattern_start[row]..self.pattern_start[row + 1]]
-    }
-
-    /// Whether every body's Jacobian, hence `M`, is the same at every `q` (docs/physics.md §7):
-    /// no lever arm turns with a coordinate, as for a floating base with bodies pivoting at
-    /// its centre of mass (Robbit) or bodies sliding on the world's axes.
-    pub fn jacobian_is_constant(&self) -> bool {
-        self.jacobian_constant
-    }
-
-    /// The generalised weight `Σ_b J_bᵀ m_b g` when the Jacobian is constant
-    /// ([`Kinematics::jacobian_is_constant`]), written with it; `None` otherwise. With a
-    /// constant Jacobian `J̇ = 0`, so the bias accelerations vanish and this vector is every
-    /// body's whole share of `h` (docs/physics.md §1, §7).
-    #[inline]
-    pub fn constant_weight(&self) -> Option<&[f64]> {
-        (self.jacobian_constant && self.jacobian_written).then_some(&self.weight[..])
-    }
-
-    /// Whether `M(q)` is diagonal at every `q`: every Jacobian row touches at most one
-    /// coordinate (a base with bodies pivoting at their own centres of mass, as Robbit).
-    pub fn mass_matrix_is_diagonal(&self) -> bool {
-        self.pattern_start.windows(2).all(|w| w[1] - w[0] <= 1)
     }
 
     /// Adds `J_Pᵀ f` to `out` (length `n`), where `J_P` is the Jacobian of the material
@@ -554,75 +463,6 @@ impl Kinematics {
         let frame = &self.frames[b];
         frame.velocity + perp(r) * frame.angular_velocity
     }
-}
-
-/// The structural sparsity of the Jacobian rows (see [`Kinematics::jacobian_pattern`]) and
-/// whether every Jacobian is constant (see [`Kinematics::jacobian_is_constant`]).
-fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>, bool) {
-    let mut rows: Vec<Vec<usize>> = Vec::with_capacity(3 * model.bodies.len());
-    let union = |a: &[usize], b: &[usize]| {
-        let mut u: Vec<usize> = a.iter().chain(b).copied().collect();
-        u.sort_unstable();
-        u.dedup();
-        u
-    };
-    let empty: [Vec<usize>; 3] = Default::default();
-    // Whether body `b`'s Jacobian depends on `q`: through a lever arm turned by an angle
-    // that depends on `q` (a non-empty angle row), its own or inherited from its parent.
-    let mut varies = vec![false; model.bodies.len()];
-    for (b, body) in model.bodies.iter().enumerate() {
-        let coord = model.first_coordinate[b];
-        let Some(joint) = body.joint.as_ref() else {
-            rows.extend([vec![coord], vec![coord + 1], vec![coord + 2]]);
-            continue;
-        };
-        let parent_varies = joint.parent.is_some_and(|p| varies[p]);
-        let parent = |k: usize| match joint.parent {
-            Some(p) => rows[3 * p + k].clone(),
-            None => empty[k].clone(),
-        };
-        let (px, py, pt) = (parent(0), parent(1), parent(2));
-        let (x, y, theta) = match joint.kind {
-            JointKind::Revolute => {
-                let theta = match joint.coordinate {
-                    JointCoordinate::Absolute => vec![coord],
-                    JointCoordinate::Relative => union(&pt, &[coord]),
-                };
-                let mut levers: Vec<usize> = Vec::new();
-                if joint.pivot_in_parent != Vec2::zeros() {
-                    levers = union(&levers, &pt);
-                    varies[b] |= !pt.is_empty();
-                }
-                if joint.com_in_child != Vec2::zeros() {
-                    levers = union(&levers, &theta);
-                    varies[b] = true;
-                }
-                varies[b] |= parent_varies;
-                (union(&px, &levers), union(&py, &levers), theta)
-            }
-            JointKind::Prismatic { .. } => {
-                // The axis turns with the parent, and the lever of its rotation grows with s.
-                varies[b] = parent_varies || !pt.is_empty();
-                let levers = union(&pt, &[coord]);
-                (union(&px, &levers), union(&py, &levers), pt)
-            }
-            JointKind::Fixed { .. } => (Vec::new(), Vec::new(), Vec::new()),
-        };
-        rows.extend([x, y, theta]);
-    }
-    let mut start = vec![0];
-    let mut pattern = Vec::new();
-    for row in rows {
-        pattern.extend(row);
-        start.push(pattern.len());
-    }
-    (pattern, start, !varies.contains(&true))
-}
-
-/// `v = 0`, compared by components.
-#[inline(always)]
-fn is_zero(v: Vec2) -> bool {
-    v.x == 0.0 && v.y == 0.0
 }
 
 /// `R v`, skipping the (possibly NaN) rotation of a body without geometry when `v = 0`.

@@ -19,6 +19,7 @@ mod kinematics;
 mod model;
 mod pairs;
 mod shape;
+mod structure;
 mod terrain;
 mod trig;
 
@@ -26,7 +27,7 @@ pub use body::{Body, Joint, JointCoordinate, JointKind, JointLimits};
 pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
 pub use forces::Spring;
 pub use kinematics::Kinematics;
-pub use model::{Energies, LimitCandidate, Model, ModelError};
+pub use model::{Energies, LimitCandidate, Model, ModelBuilder, ModelError};
 pub use pairs::{pair_features, PairCandidate, PairGeometry};
 pub use shape::{Shape, ShapeInstance};
 pub use terrain::{Terrain, TerrainFeature};

@@ -6,6 +6,7 @@ use crate::forces::separation;
 use crate::pairs::{
     pair_candidates, pair_directions_to, pair_geometry, PairCandidate, PairGeometry, Pose,
 };
+use crate::structure::Structure;
 use crate::{
     Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance,
     Spring, Terrain, Vec2,
@@ -86,39 +87,43 @@ impl LimitCandidate {
     }
 }
 
-/// A planar multibody model; immutable once built (evaluated at a state into a [`Kinematics`]).
+/// A planar multibody model, built once by a [`ModelBuilder`] (or [`Model::new`]) and
+/// immutable afterwards (evaluated at a state into a [`Kinematics`]).
+///
+/// The bodies are listed parents before children. A body without a joint is a floating
+/// base with coordinates `(x, y, φ)`; a body on a joint adds one coordinate (none when
+/// fixed). Coordinates are numbered in body order, so one floating tree has
+/// `q = (x, y, φ, q_1, q_2, …)` (docs/physics.md §1, §7). Everything the structure decides
+/// once (the Jacobian's sparsity and constancy, the bodies that need a rotation, contact
+/// shortcuts) is computed when it is built.
 #[derive(Clone, Debug)]
 pub struct Model {
-    /// The bodies, parents before children. A body without a joint is a floating base with
-    /// coordinates `(x, y, φ)`; a body on a joint adds one coordinate (none when fixed).
-    /// Coordinates are numbered in body order, so one floating tree has
-    /// `q = (x, y, φ, q_1, q_2, …)` (docs/physics.md §1, §7).
-    pub bodies: Vec<Body>,
-    /// Contact shapes on the bodies.
-    pub shapes: Vec<ShapeInstance>,
-    /// The environment.
-    pub terrain: Terrain,
-    /// Every potential contact (shape feature × terrain feature).
-    pub contacts: Vec<ContactCandidate>,
-    /// Springs between points on bodies.
-    pub springs: Vec<Spring>,
-    /// Gravitational acceleration, m/s² (default `(0, -9.81)`).
-    pub gravity: Vec2,
-    /// Every finite joint stop (docs/physics.md §7), two per joint with both limits.
-    pub limits: Vec<LimitCandidate>,
-    /// Every potential contact between shapes of two bodies (docs/physics.md §7), added by
-    /// [`Model::add_body_contacts`]. In the stepper's numbering they follow the terrain
-    /// contacts: body–body contact `p` is contact `contacts.len() + p`.
-    pub pairs: Vec<PairCandidate>,
+    bodies: Vec<Body>,
+    shapes: Vec<ShapeInstance>,
+    terrain: Terrain,
+    contacts: Vec<ContactCandidate>,
+    springs: Vec<Spring>,
+    gravity: Vec2,
+    limits: Vec<LimitCandidate>,
+    pairs: Vec<PairCandidate>,
     /// First generalised coordinate of each body (for a fixed body: the next body's).
     pub(crate) first_coordinate: Vec<usize>,
     /// Number of generalised coordinates.
     dof: usize,
+    /// The per-model constants (`crate::structure`).
+    pub(crate) structure: Structure,
 }
 
-impl Model {
-    /// Builds and checks a model; every shape feature is paired with every terrain
-    /// feature it can touch, all with `material`.
+/// Builds a [`Model`]: checks the bodies, shapes and springs, pairs every shape feature
+/// with every terrain feature it can touch, takes the contacts between bodies and the
+/// shapes' own materials, and computes the model's constants in [`ModelBuilder::build`].
+#[derive(Clone, Debug)]
+pub struct ModelBuilder {
+    model: Model,
+}
+
+impl ModelBuilder {
+    /// Checks the parts and makes the terrain contacts, all with `material`.
     pub fn new(
         bodies: Vec<Body>,
         shapes: Vec<ShapeInstance>,
@@ -139,21 +144,36 @@ impl Model {
         }
         let limits = limit_candidates(&bodies);
         Ok(Self {
-            bodies,
-            shapes,
-            terrain,
-            contacts,
-            springs,
-            gravity,
-            limits,
-            pairs: Vec::new(),
-            first_coordinate,
-            dof,
+            model: Model {
+                bodies,
+                shapes,
+                terrain,
+                contacts,
+                springs,
+                gravity,
+                limits,
+                pairs: Vec::new(),
+                first_coordinate,
+                dof,
+                structure: Structure::empty(),
+            },
         })
     }
 
-    /// Adds the potential contacts between shape `a` and shape `b` (indices into
-    /// [`Model::shapes`], on two different bodies that are not both fixed) with `material`
+    /// The model so far (its constants not yet computed: evaluate it only once built).
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// Gives shape `shape`'s terrain contacts `material`.
+    pub fn set_shape_material(&mut self, shape: usize, material: ContactMaterial) {
+        for c in self.model.contacts.iter_mut().filter(|c| c.shape == shape) {
+            c.material = material;
+        }
+    }
+
+    /// Adds the potential contacts between shape `a` and shape `b` (indices into the
+    /// shapes, on two different bodies that are not both fixed) with `material`
     /// (docs/physics.md §7); returns how many candidates the pair makes (see
     /// [`crate::pair_features`]). Joined bodies are allowed: filtering is the caller's.
     pub fn add_body_contacts(
@@ -162,7 +182,8 @@ impl Model {
         b: usize,
         material: ContactMaterial,
     ) -> Result<usize, ModelError> {
-        let count = self.shapes.len();
+        let model = &mut self.model;
+        let count = model.shapes.len();
         for s in [a, b] {
             if s >= count {
                 return Err(ModelError::BadPair {
@@ -173,15 +194,15 @@ impl Model {
             }
         }
         let bad = |reason: &str| ModelError::BadPair {
-            first: self.shapes[a].name.clone(),
-            second: self.shapes[b].name.clone(),
+            first: model.shapes[a].name.clone(),
+            second: model.shapes[b].name.clone(),
             reason: reason.to_string(),
         };
-        let (body_a, body_b) = (self.shapes[a].body, self.shapes[b].body);
+        let (body_a, body_b) = (model.shapes[a].body, model.shapes[b].body);
         if body_a == body_b {
             return Err(bad("both shapes are on the same body"));
         }
-        if self.bodies[body_a].is_fixed() && self.bodies[body_b].is_fixed() {
+        if model.bodies[body_a].is_fixed() && model.bodies[body_b].is_fixed() {
             return Err(bad("both shapes are on fixed bodies, which never move"));
         }
         if !material.friction.is_finite()
@@ -193,10 +214,142 @@ impl Model {
                 "friction must be finite and >= 0, restitution in [0, 1], tangential restitution in [-1, 1]",
             ));
         }
-        let new = pair_candidates(&self.shapes, a, b, material).map_err(bad)?;
+        let new = pair_candidates(&model.shapes, a, b, material).map_err(bad)?;
         let added = new.len();
-        self.pairs.extend(new);
+        model.pairs.extend(new);
         Ok(added)
+    }
+
+    /// The model, with its constants (docs/physics.md §7: the Jacobian's sparsity and
+    /// whether it is constant, and then the generalised weight; the contact shortcuts).
+    pub fn build(self) -> Model {
+        let mut model = self.model;
+        model.structure = Structure::of(&model);
+        if model.structure.jacobian_constant {
+            // A constant Jacobian, evaluated anywhere: `Σ_b J_bᵀ m_b g`.
+            let n = model.dof;
+            let mut kinematics = Kinematics::new(&model);
+            kinematics.update_slices(&model, &vec![0.0; n], &vec![0.0; n]);
+            let mut weight = vec![0.0; n];
+            for (b, body) in model.bodies.iter().enumerate() {
+                kinematics.add_point_force_to(
+                    b,
+                    Vec2::zeros(),
+                    body.mass * model.gravity,
+                    &mut weight,
+                );
+            }
+            model.structure.constant_weight = Some(weight);
+        }
+        model
+    }
+}
+
+impl Model {
+    /// Builds and checks a model without contacts between bodies; every shape feature is
+    /// paired with every terrain feature it can touch, all with `material` (see
+    /// [`ModelBuilder`] for more).
+    pub fn new(
+        bodies: Vec<Body>,
+        shapes: Vec<ShapeInstance>,
+        terrain: Terrain,
+        springs: Vec<Spring>,
+        gravity: Vec2,
+        material: ContactMaterial,
+    ) -> Result<Self, ModelError> {
+        Ok(ModelBuilder::new(bodies, shapes, terrain, springs, gravity, material)?.build())
+    }
+
+    /// The same model under gravity `gravity`, m/s² (a model is immutable: this builds
+    /// another, with its constants).
+    pub fn with_gravity(&self, gravity: Vec2) -> Model {
+        let mut model = self.clone();
+        model.gravity = gravity;
+        ModelBuilder { model }.build()
+    }
+
+    /// The bodies, parents before children.
+    #[inline]
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// The contact shapes on the bodies.
+    #[inline]
+    pub fn shapes(&self) -> &[ShapeInstance] {
+        &self.shapes
+    }
+
+    /// The environment.
+    #[inline]
+    pub fn terrain(&self) -> &Terrain {
+        &self.terrain
+    }
+
+    /// Every potential contact with the terrain (shape feature × terrain feature).
+    #[inline]
+    pub fn contacts(&self) -> &[ContactCandidate] {
+        &self.contacts
+    }
+
+    /// Springs between points on bodies.
+    #[inline]
+    pub fn springs(&self) -> &[Spring] {
+        &self.springs
+    }
+
+    /// Gravitational acceleration, m/s² (default `(0, -9.81)`).
+    #[inline]
+    pub fn gravity(&self) -> Vec2 {
+        self.gravity
+    }
+
+    /// Every finite joint stop (docs/physics.md §7), two per joint with both limits.
+    #[inline]
+    pub fn limits(&self) -> &[LimitCandidate] {
+        &self.limits
+    }
+
+    /// Every potential contact between shapes of two bodies (docs/physics.md §7). In the
+    /// stepper's numbering they follow the terrain contacts: body–body contact `p` is
+    /// contact `contacts().len() + p`.
+    #[inline]
+    pub fn pairs(&self) -> &[PairCandidate] {
+        &self.pairs
+    }
+
+    /// The sorted columns where Jacobian row `row` (`3b + k`, `k` = x, y, θ) can be
+    /// non-zero.
+    #[inline]
+    pub fn jacobian_pattern(&self, row: usize) -> &[usize] {
+        let s = &self.structure;
+        &s.pattern[s.pattern_start[row]..s.pattern_start[row + 1]]
+    }
+
+    /// Whether every body's Jacobian, hence `M`, is the same at every `q` (docs/physics.md
+    /// §7): no lever arm turns with a coordinate, as for a floating base with bodies
+    /// pivoting at its centre of mass (Robbit) or bodies sliding on the world's axes.
+    #[inline]
+    pub fn jacobian_is_constant(&self) -> bool {
+        self.structure.jacobian_constant
+    }
+
+    /// The generalised weight `Σ_b J_bᵀ m_b g` when the Jacobian is constant
+    /// ([`Model::jacobian_is_constant`]); `None` otherwise. With a constant Jacobian
+    /// `J̇ = 0`, so the bias accelerations vanish and this vector is every body's whole
+    /// share of `h` (docs/physics.md §1, §7).
+    #[inline]
+    pub fn constant_weight(&self) -> Option<&[f64]> {
+        self.structure.constant_weight.as_deref()
+    }
+
+    /// Whether `M(q)` is diagonal at every `q`: every Jacobian row touches at most one
+    /// coordinate (a base with bodies pivoting at their own centres of mass, as Robbit).
+    pub fn mass_matrix_is_diagonal(&self) -> bool {
+        self.structure
+            .pattern_start
+            .windows(2)
+            .all(|w| w[1] - w[0] <= 1)
     }
 
     /// Whether body–body contact `p` touches a fixed body: the world, like the terrain, for
@@ -395,7 +548,7 @@ impl Model {
             for k in 0..3 {
                 let w = if k < 2 { body.mass } else { body.inertia };
                 let row = kinematics.jacobian_row(3 * b + k);
-                match kinematics.jacobian_pattern(3 * b + k) {
+                match self.jacobian_pattern(3 * b + k) {
                     // A row touching one coordinate (the common case) adds to the diagonal.
                     &[i] => m[i * n + i] += w * row[i] * row[i],
                     pattern => {
@@ -460,7 +613,7 @@ impl Model {
         dissipative: Option<&mut [f64]>,
     ) {
         if let Some(h) = conservative {
-            match kinematics.constant_weight() {
+            match self.constant_weight() {
                 Some(weight) => {
                     for (h, w) in h.iter_mut().zip(weight) {
                         *h += w;
@@ -499,7 +652,7 @@ impl Model {
     /// Adds `Σ J_bᵀ m_b (g − J̇_b u)` to `h`: the weights with the velocity-product terms,
     /// which enter as the centripetal "bias" accelerations of each centre of mass
     /// (docs/physics.md §1). With a constant Jacobian they vanish and the sum is
-    /// [`Kinematics::constant_weight`], which [`Model::add_forces`] adds instead.
+    /// [`Model::constant_weight`], which [`Model::add_forces`] adds instead.
     #[inline(never)]
     fn add_body_weights(&self, kinematics: &Kinematics, h: &mut [f64]) {
         for (b, body) in self.bodies.iter().enumerate() {
@@ -534,11 +687,16 @@ impl Model {
     }
 
     /// Geometry of potential contact `i` (needs `kinematics.update` first). A circle on a
-    /// line without ends takes the shortcut that `Kinematics::new` resolved for it, with
+    /// line without ends takes the shortcut the model resolved for it when built, with
     /// the same result bit for bit (docs/physics.md §2).
     #[inline]
     pub fn contact_geometry(&self, kinematics: &Kinematics, i: usize) -> Option<ContactGeometry> {
-        if let Some(disc) = kinematics.disc_on_line(i) {
+        if let Some(disc) = self
+            .structure
+            .discs_on_lines
+            .get(i)
+            .and_then(Option::as_ref)
+        {
             let body = disc.body;
             return disc.geometry(kinematics.position(body), kinematics.rotation(body));
         }

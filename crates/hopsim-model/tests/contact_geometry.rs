@@ -140,13 +140,13 @@ fn check_corner(shape: Shape, pose: [f64; 3], reference: f64) -> Result<(), Test
                 ),
             );
             let kinematics = workspace(&probe, pose);
-            (0..probe.contacts.len()).find_map(|i| probe.contact_geometry(&kinematics, i))
+            (0..probe.contacts().len()).find_map(|i| probe.contact_geometry(&kinematics, i))
         })
         .map(|g| g.normal)
         .expect("some cone holds the normal");
     let m = model(shape.clone(), corner(axis, 0.2));
     let kinematics = workspace(&m, pose);
-    let g = (0..m.contacts.len())
+    let g = (0..m.contacts().len())
         .find_map(|i| m.contact_geometry(&kinematics, i))
         .expect("a corner contact inside the cone");
     prop_assert!(
@@ -166,7 +166,7 @@ fn check_corner(shape: Shape, pose: [f64; 3], reference: f64) -> Result<(), Test
     let excluded = model(shape, corner(-axis, 0.2));
     let kinematics = workspace(&excluded, pose);
     prop_assert!(
-        (0..excluded.contacts.len()).all(|i| excluded.contact_geometry(&kinematics, i).is_none())
+        (0..excluded.contacts().len()).all(|i| excluded.contact_geometry(&kinematics, i).is_none())
     );
     Ok(())
 }
@@ -181,10 +181,10 @@ fn a_step_face_does_not_claim_points_behind_the_top() {
     let m = model(square, Terrain::step(-0.3, 0.1));
     let touching = |pose: [f64; 3]| -> Vec<(usize, f64)> {
         let kinematics = workspace(&m, pose);
-        (0..m.contacts.len())
+        (0..m.contacts().len())
             .filter_map(|i| {
                 m.contact_geometry(&kinematics, i)
-                    .map(|g| (m.contacts[i].terrain, g.gap))
+                    .map(|g| (m.contacts()[i].terrain, g.gap))
             })
             .filter(|(_, gap)| *gap <= 0.0)
             .collect()
@@ -298,7 +298,7 @@ proptest! {
         prop_assume!(clearance > 1e-3);
         let m = model(shape, Terrain::step(face, height));
         let kinematics = workspace(&m, [x, y, phi]);
-        let gap = (0..m.contacts.len())
+        let gap = (0..m.contacts().len())
             .filter_map(|i| m.contact_geometry(&kinematics, i))
             .map(|g| g.gap)
             .fold(f64::INFINITY, f64::min);
@@ -357,10 +357,10 @@ fn arc_minimum(
 /// geometry)` of every reported contact.
 fn reported(m: &Model, pose: [f64; 3]) -> Vec<(usize, ShapeFeature, ContactGeometry)> {
     let kinematics = workspace(m, pose);
-    (0..m.contacts.len())
+    (0..m.contacts().len())
         .filter_map(|i| {
             m.contact_geometry(&kinematics, i)
-                .map(|g| (m.contacts[i].terrain, m.contacts[i].feature, g))
+                .map(|g| (m.contacts()[i].terrain, m.contacts()[i].feature, g))
         })
         .collect()
 }

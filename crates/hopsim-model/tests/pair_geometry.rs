@@ -3,7 +3,9 @@
 //! each pair on two floating bodies at random poses; and the generalised directions
 //! `w_N`, `w_T` against finite differences of the gap and of the contact points.
 
-use hopsim_model::{Body, ContactMaterial, Kinematics, Model, Shape, ShapeInstance, Terrain, Vec2};
+use hopsim_model::{
+    Body, ContactMaterial, Kinematics, Model, ModelBuilder, Shape, ShapeInstance, Terrain, Vec2,
+};
 use nalgebra::DVector;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query::contact;
@@ -18,7 +20,7 @@ fn pair_model(a: Shape, b: Shape) -> Model {
         body,
         shape,
     };
-    let mut model = Model::new(
+    let mut builder = ModelBuilder::new(
         vec![Body::base("a", 1.0, 0.01), Body::base("b", 2.0, 0.03)],
         vec![shape("sa", 0, a), shape("sb", 1, b)],
         Terrain::flat(-100.0),
@@ -27,10 +29,10 @@ fn pair_model(a: Shape, b: Shape) -> Model {
         ContactMaterial::default(),
     )
     .unwrap();
-    model
+    builder
         .add_body_contacts(0, 1, ContactMaterial::inelastic(0.5))
         .unwrap();
-    model
+    builder.build()
 }
 
 fn kinematics(model: &Model, q: &[f64; 6]) -> Kinematics {
@@ -43,11 +45,11 @@ fn kinematics(model: &Model, q: &[f64; 6]) -> Kinematics {
 /// from the first body to the second).
 fn min_gap(model: &Model, q: &[f64; 6]) -> Option<(f64, Vec2)> {
     let k = kinematics(model, q);
-    (0..model.pairs.len())
+    (0..model.pairs().len())
         .filter_map(|p| {
             let g = model.pair_geometry(&k, p)?;
             // The normal points from the target to the probe; make it first → second.
-            let sign = if model.shapes[model.pairs[p].probe].body == 1 {
+            let sign = if model.shapes()[model.pairs()[p].probe].body == 1 {
                 1.0
             } else {
                 -1.0
@@ -95,7 +97,7 @@ proptest! {
         prop_assume!((x * x + y * y).sqrt() > 1e-3);
         let (a, b) = (Shape::Circle { center: Vec2::zeros(), radius: r1 }, Shape::Circle { center: Vec2::zeros(), radius: r2 });
         let model = pair_model(a.clone(), b.clone());
-        prop_assert_eq!(model.pairs.len(), 1);
+        prop_assert_eq!(model.pairs().len(), 1);
         let q = [0.0, 0.0, p1, x, y, p2];
         let (gap, normal) = min_gap(&model, &q).unwrap();
         let (reference, parry_normal) = parry_gap(&a, &b, &q);
@@ -129,7 +131,7 @@ proptest! {
     ) {
         let (a, b) = (box_shape(w1, h1), box_shape(w2, h2));
         let model = pair_model(a.clone(), b.clone());
-        prop_assert_eq!(model.pairs.len(), 8);
+        prop_assert_eq!(model.pairs().len(), 8);
         let q = [0.0, 0.0, p1, x, y, p2];
         let (reference, _) = parry_gap(&a, &b, &q);
         prop_assume!(reference > 1e-3);
@@ -180,19 +182,21 @@ fn inexact_pairs_are_refused() {
         (ellipse.clone(), ellipse.clone(), "no closed-form"),
         (point.clone(), point.clone(), "never touch"),
     ] {
-        let mut model = pair_model(
-            Shape::Circle {
-                center: Vec2::zeros(),
-                radius: 0.1,
-            },
-            Shape::Circle {
-                center: Vec2::zeros(),
-                radius: 0.1,
-            },
-        );
-        model.shapes[0].shape = a;
-        model.shapes[1].shape = b;
-        let error = model
+        let shape = |name: &str, body: usize, shape: Shape| ShapeInstance {
+            name: name.into(),
+            body,
+            shape,
+        };
+        let mut builder = ModelBuilder::new(
+            vec![Body::base("a", 1.0, 0.01), Body::base("b", 2.0, 0.03)],
+            vec![shape("sa", 0, a), shape("sb", 1, b)],
+            Terrain::flat(-100.0),
+            vec![],
+            Vec2::zeros(),
+            ContactMaterial::default(),
+        )
+        .unwrap();
+        let error = builder
             .add_body_contacts(0, 1, ContactMaterial::default())
             .unwrap_err()
             .to_string();

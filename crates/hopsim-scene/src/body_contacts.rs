@@ -5,7 +5,7 @@ use crate::bodies::{Names, ShapeSpec};
 use crate::error::SceneError;
 use crate::reader::{Num, Table};
 use crate::scene::MAX_CONTACTS;
-use hopsim_model::{ContactMaterial, Model, ModelError};
+use hopsim_model::{ContactMaterial, Model, ModelBuilder, ModelError};
 use std::collections::HashSet;
 
 /// Collision groups: 32, numbered 0–31.
@@ -77,7 +77,7 @@ pub(crate) fn read_body_contacts(
     top: &Table<'_>,
     shapes: &[ShapeSpec],
     names: &Names,
-    model: &mut Model,
+    builder: &mut ModelBuilder,
 ) -> Result<(), SceneError> {
     let settings = top.table_or_empty("body_contacts")?;
     let all = settings.bool_or("all", false)?;
@@ -113,13 +113,13 @@ pub(crate) fn read_body_contacts(
         let base = pair_material(&defaults, &shapes[a].material, &shapes[b].material);
         let material = crate::environment::read_material(&t, base)?;
         t.finish()?;
-        model
+        builder
             .add_body_contacts(a, b, material)
             .map_err(|e| match e {
                 ModelError::BadPair { reason, .. } => bad(reason),
                 other => bad(other.to_string()),
             })?;
-        check_count(model, &t, "shapes")?;
+        check_count(builder.model(), &t, "shapes")?;
     }
     if all {
         for a in 0..shapes.len() {
@@ -127,8 +127,9 @@ pub(crate) fn read_body_contacts(
                 let (body_a, body_b) = (shapes[a].instance.body, shapes[b].instance.body);
                 let skip = body_a == body_b
                     || listed.contains(&(a, b))
-                    || model.joined(body_a, body_b)
-                    || (model.bodies[body_a].is_fixed() && model.bodies[body_b].is_fixed())
+                    || builder.model().joined(body_a, body_b)
+                    || (builder.model().bodies()[body_a].is_fixed()
+                        && builder.model().bodies()[body_b].is_fixed())
                     || shapes[a].switchable
                     || shapes[b].switchable
                     || !shapes[a].filter.accepts(shapes[b].filter)
@@ -141,10 +142,10 @@ pub(crate) fn read_body_contacts(
                     continue;
                 }
                 let material = pair_material(&defaults, &shapes[a].material, &shapes[b].material);
-                model
+                builder
                     .add_body_contacts(a, b, material)
                     .map_err(|e| settings.error_at_key("all", e.to_string()))?;
-                check_count(model, &settings, "all")?;
+                check_count(builder.model(), &settings, "all")?;
             }
         }
     }
@@ -162,7 +163,7 @@ fn check_count(model: &Model, table: &Table<'_>, key: &str) -> Result<(), SceneE
         format!(
             "the shapes make more than {MAX_CONTACTS} potential contacts with the terrain and \
              between bodies ({} terrain contacts); a scene may have at most {MAX_CONTACTS}",
-            model.contacts.len()
+            model.contacts().len()
         ),
     ))
 }

@@ -11,7 +11,7 @@ use crate::settings::{read_meta, read_settings, Meta, Settings};
 use crate::start::{check_start, velocity, StartProblem, COORDINATE, PENETRATION_TOL};
 use crate::tree::Node;
 use hopsim_control::ControllerConfig;
-use hopsim_model::{Kinematics, Model, ModelError, Vec2};
+use hopsim_model::{Kinematics, Model, ModelBuilder, ModelError, Vec2};
 use hopsim_step::{State, StepSettings};
 use nalgebra::DVector;
 use std::path::{Path, PathBuf};
@@ -130,8 +130,8 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
 
     let instances = shapes.iter().map(|s| s.instance.clone()).collect();
     let gravity = Vec2::new(0.0, -settings.gravity);
-    let mut model =
-        Model::new(bodies, instances, terrain, springs, gravity, material).map_err(|e| {
+    let mut builder = ModelBuilder::new(bodies, instances, terrain, springs, gravity, material)
+        .map_err(|e| {
             // The scene's own checks come first; should the model still object, place
             // the error at the table it is about.
             let find = |tables: &[Table<'_>], name: &str| {
@@ -158,19 +158,21 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
                 None => top.error_at_key("bodies", e.to_string()),
             }
         })?;
-    if model.contacts.len() > MAX_CONTACTS {
-        let first_extra = model.contacts[MAX_CONTACTS].shape;
+    let terrain_contacts = builder.model().contacts();
+    if terrain_contacts.len() > MAX_CONTACTS {
+        let first_extra = terrain_contacts[MAX_CONTACTS].shape;
         return Err(shape_tables[first_extra].error_here(format!(
             "the shapes make {} potential contacts with the terrain (a contact per shape \
              feature and terrain feature); a scene may have at most {MAX_CONTACTS} (and at \
              most {MAX_SHAPES} shapes)",
-            model.contacts.len()
+            terrain_contacts.len()
         )));
     }
-    for c in &mut model.contacts {
-        c.material = shapes[c.shape].material;
+    for (s, shape) in shapes.iter().enumerate() {
+        builder.set_shape_material(s, shape.material);
     }
-    read_body_contacts(&top, &shapes, &shape_names, &mut model)?;
+    read_body_contacts(&top, &shapes, &shape_names, &mut builder)?;
+    let model = builder.build();
     let switchable: Vec<usize> = (0..shapes.len())
         .filter(|&s| shapes[s].switchable)
         .collect();
@@ -215,17 +217,17 @@ fn read_initial(
     let rest = init.bool_or("rest_on_ground", false)?;
     let mut ws = Kinematics::new(model);
     if rest {
-        if model.bodies[0].joint.is_some() {
+        if model.bodies()[0].joint.is_some() {
             return Err(init.error_at_key(
                 "rest_on_ground",
                 format!(
                     "the first body '{}' is not a floating base: there is no y to lower",
-                    model.bodies[0].name
+                    model.bodies()[0].name
                 ),
             ));
         }
         // Lower (or raise) the first tree along y until its lowest active shape touches.
-        let first_tree = |c: usize| model.root(model.shapes[model.contacts[c].shape].body) == 0;
+        let first_tree = |c: usize| model.root(model.shapes()[model.contacts()[c].shape].body) == 0;
         for _ in 0..8 {
             let Some((gap, normal_y, _)) =
                 lowest_contact(model, shapes, &mut ws, &q, &u, &first_tree)
@@ -247,11 +249,11 @@ fn read_initial(
         let fix = match &problem {
             StartProblem::InTerrain { shape, .. } => {
                 let body = model
-                    .shapes
+                    .shapes()
                     .iter()
                     .find(|s| &s.name == shape)
                     .map_or(0, |s| s.body);
-                if model.root(body) == 0 && model.bodies[0].joint.is_none() {
+                if model.root(body) == 0 && model.bodies()[0].joint.is_none() {
                     "raise y (q[1]) by at least that much or set rest_on_ground = true"
                 } else {
                     "move its body out of the terrain"
@@ -278,8 +280,8 @@ fn lowest_contact(
     among: &dyn Fn(usize) -> bool,
 ) -> Option<(f64, f64, usize)> {
     ws.update(model, q, u);
-    (0..model.contacts.len())
-        .filter(|&i| !shapes[model.contacts[i].shape].switchable && among(i))
+    (0..model.contacts().len())
+        .filter(|&i| !shapes[model.contacts()[i].shape].switchable && among(i))
         .filter_map(|i| {
             model
                 .contact_geometry(ws, i)

@@ -198,22 +198,22 @@ pub fn check_start(model: &Model, state: &State, inactive: &[bool]) -> Result<()
     if let Some((gap, contact)) = deepest_terrain_contact(model, &ws, inactive) {
         if gap < -PENETRATION_TOL {
             return Err(StartProblem::InTerrain {
-                shape: model.shapes[model.contacts[contact].shape].name.clone(),
-                contact: model.contacts[contact].name.clone(),
+                shape: model.shapes()[model.contacts()[contact].shape].name.clone(),
+                contact: model.contacts()[contact].name.clone(),
                 depth: -gap,
             });
         }
     }
-    for limit in &model.limits {
+    for limit in model.limits() {
         let position = ws.joint_position(limit.body);
         let gap = limit.gap(position);
         if gap < -PENETRATION_TOL {
-            let prismatic = model.bodies[limit.body]
+            let prismatic = model.bodies()[limit.body]
                 .joint
                 .as_ref()
                 .is_some_and(|j| matches!(j.kind, hopsim_model::JointKind::Prismatic { .. }));
             return Err(StartProblem::PastStop {
-                body: model.bodies[limit.body].name.clone(),
+                body: model.bodies()[limit.body].name.clone(),
                 upper: limit.upper,
                 position,
                 bound: limit.bound,
@@ -223,21 +223,21 @@ pub fn check_start(model: &Model, state: &State, inactive: &[bool]) -> Result<()
         }
     }
     // The contacts' exact gaps first, then the solids for what no contact sees.
-    for (p, pair) in model.pairs.iter().enumerate() {
+    for (p, pair) in model.pairs().iter().enumerate() {
         let Some(geometry) = model.pair_geometry(&ws, p) else {
             continue;
         };
         if geometry.gap < -PENETRATION_TOL {
             return Err(StartProblem::Overlap {
-                first: model.shapes[pair.probe].name.clone(),
-                second: model.shapes[pair.target].name.clone(),
+                first: model.shapes()[pair.probe].name.clone(),
+                second: model.shapes()[pair.target].name.clone(),
                 contact: Some(pair.name.clone()),
                 depth: -geometry.gap,
             });
         }
     }
     let mut checked: Vec<(usize, usize)> = Vec::new();
-    for pair in &model.pairs {
+    for pair in model.pairs() {
         let key = (pair.probe.min(pair.target), pair.probe.max(pair.target));
         if checked.contains(&key) {
             continue;
@@ -246,8 +246,8 @@ pub fn check_start(model: &Model, state: &State, inactive: &[bool]) -> Result<()
         let depth = overlap(model, &ws, key.0, key.1);
         if depth > SOLID_OVERLAP_TOL {
             return Err(StartProblem::Overlap {
-                first: model.shapes[key.0].name.clone(),
-                second: model.shapes[key.1].name.clone(),
+                first: model.shapes()[key.0].name.clone(),
+                second: model.shapes()[key.1].name.clone(),
                 contact: None,
                 depth,
             });
@@ -262,8 +262,8 @@ pub(crate) fn deepest_terrain_contact(
     ws: &Kinematics,
     inactive: &[bool],
 ) -> Option<(f64, usize)> {
-    (0..model.contacts.len())
-        .filter(|&i| !inactive[model.contacts[i].shape])
+    (0..model.contacts().len())
+        .filter(|&i| !inactive[model.contacts()[i].shape])
         .filter_map(|i| model.contact_geometry(ws, i).map(|g| (g.gap, i)))
         .min_by(|a, b| a.0.total_cmp(&b.0))
 }
@@ -274,7 +274,7 @@ pub(crate) fn deepest_terrain_contact(
 /// bars, two discs with one centre).
 fn overlap(model: &Model, ws: &Kinematics, a: usize, b: usize) -> f64 {
     let solid = |s: usize| {
-        let inst = &model.shapes[s];
+        let inst = &model.shapes()[s];
         let (position, angle) = (ws.position(inst.body), ws.angle(inst.body));
         let (offset, shape) = solid_of(&inst.shape)?;
         let at = position + hopsim_model::rotate(angle, offset);

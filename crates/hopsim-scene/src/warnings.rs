@@ -32,7 +32,7 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
     };
     let n = model.dof();
     let mut row = vec![0.0; n];
-    for (b, body) in model.bodies.iter().enumerate() {
+    for (b, body) in model.bodies().iter().enumerate() {
         let Some(joint) = body.joint.as_ref().filter(|j| j.has_coordinate()) else {
             continue;
         };
@@ -42,7 +42,7 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
         let key = |what: &str| format!("bodies.{}.{what}", body.name);
         spring_and_damper(&mut out, dt, g, joint.stiffness, joint.damping, key);
     }
-    for (s, spring) in model.springs.iter().enumerate() {
+    for (s, spring) in model.springs().iter().enumerate() {
         let mut row = vec![0.0; n];
         let (a, b) = model.spring_ends(&ws, s);
         let dir = (a - b).try_normalize(1e-12).unwrap_or_default();
@@ -121,25 +121,25 @@ fn spring_and_damper(
 fn impact_warning(scene: &Scene, dt: f64) -> Option<String> {
     let model = &scene.model;
     let (name, size) = model
-        .shapes
+        .shapes()
         .iter()
         .enumerate()
-        .filter(|(i, s)| !scene.switchable.contains(i) && !model.bodies[s.body].is_fixed())
+        .filter(|(i, s)| !scene.switchable.contains(i) && !model.bodies()[s.body].is_fixed())
         .map(|(_, s)| (s.name.as_str(), shape_size(&s.shape)))
         .filter(|(_, size)| *size > 0.0)
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
     let mut ws = Kinematics::new(model);
     ws.update(model, &scene.initial.q, &scene.initial.u);
-    let height = (0..model.contacts.len())
+    let height = (0..model.contacts().len())
         .filter_map(|i| model.contact_geometry(&ws, i).map(|g| g.gap))
         .fold(f64::INFINITY, f64::min);
-    let floats = model.bodies[0].joint.is_none();
+    let floats = model.bodies()[0].joint.is_none();
     let fall = if floats && height.is_finite() && height > 0.0 {
-        (2.0 * model.gravity.norm() * height).sqrt()
+        (2.0 * model.gravity().norm() * height).sqrt()
     } else {
         0.0
     };
-    let speed = (0..model.bodies.len())
+    let speed = (0..model.bodies().len())
         .map(|b| ws.velocity(b).norm())
         .fold(fall, f64::max);
     (speed * dt > IMPACT_TRAVEL * size).then(|| {
@@ -161,10 +161,10 @@ fn impact_warning(scene: &Scene, dt: f64) -> Option<String> {
 /// pole or the ground, also keeps it from turning that energy into spin) in its rotation,
 /// `ω = √(2 E g)` with `g` the mobility of its angle.
 fn turn_warning(model: &Model, ws: &Kinematics, mobility: &Mobility, dt: f64) -> Option<String> {
-    let count = model.bodies.len();
+    let count = model.bodies().len();
     let mut tree_energy = vec![0.0; count];
     for (b, body) in model
-        .bodies
+        .bodies()
         .iter()
         .enumerate()
         .filter(|(_, b)| !b.is_fixed())
@@ -177,7 +177,7 @@ fn turn_warning(model: &Model, ws: &Kinematics, mobility: &Mobility, dt: f64) ->
         }
         tree_energy[model.root(b)] += e;
     }
-    for (s, spring) in model.springs.iter().enumerate() {
+    for (s, spring) in model.springs().iter().enumerate() {
         let (a, b) = model.spring_ends(ws, s);
         let e = spring.energy((a - b).norm());
         let (ra, rb) = (model.root(spring.body_a), model.root(spring.body_b));
@@ -188,7 +188,7 @@ fn turn_warning(model: &Model, ws: &Kinematics, mobility: &Mobility, dt: f64) ->
     }
     let mut row = vec![0.0; model.dof()];
     let (body, omega, energy) = (0..count)
-        .filter(|&b| !model.bodies[b].is_fixed())
+        .filter(|&b| !model.bodies()[b].is_fixed())
         .map(|b| {
             row.fill(0.0);
             ws.add_torque_to(b, None, 1.0, &mut row);
@@ -203,7 +203,7 @@ fn turn_warning(model: &Model, ws: &Kinematics, mobility: &Mobility, dt: f64) ->
              start) could turn body '{}' at up to {omega:.4e} rad/s, {:.3} rad per step, \
              beyond the accurate range ({TURN_PER_STEP} rad per step) of the velocity-product \
              terms: energy is then not kept; simulation.dt ≤ {:.3e} s would be accurate",
-            model.bodies[body].name,
+            model.bodies()[body].name,
             omega * dt,
             TURN_PER_STEP / omega
         )

@@ -223,7 +223,11 @@ fn well_formed(scene: &Scene) {
     let s = &scene.settings;
     assert!(s.dt > 0.0 && s.dt < s.duration && s.duration.is_finite());
     assert!(s.speed_window >= s.dt && s.speed_window <= s.duration);
-    assert!(scene.model.bodies.iter().all(|b| !b.name.trim().is_empty()));
+    assert!(scene
+        .model
+        .bodies()
+        .iter()
+        .all(|b| !b.name.trim().is_empty()));
 }
 
 fn error_is_located(e: &SceneError) {

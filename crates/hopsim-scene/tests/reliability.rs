@@ -154,7 +154,7 @@ fn twenty_thousand_bodies_are_refused_without_allocating_gigabytes() {
 fn the_largest_accepted_scene_loads_in_bounded_memory() {
     let (result, peak) = parse_with_peak(&chain_scene(MAX_BODIES));
     let scene = result.unwrap();
-    assert_eq!(scene.model.bodies.len(), MAX_BODIES);
+    assert_eq!(scene.model.bodies().len(), MAX_BODIES);
     assert!(peak < 256 << 20, "peak heap {} MB", peak >> 20);
 }
 

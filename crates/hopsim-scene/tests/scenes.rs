@@ -104,7 +104,7 @@ q = [0.0, 1.0, 0.0, 0.4, 0.2, 3.0, 1.0, 0.0]
     );
     let model = &scene.model;
     assert_eq!(model.dof(), 8);
-    let leg = model.bodies[1].joint.as_ref().unwrap();
+    let leg = model.bodies()[1].joint.as_ref().unwrap();
     assert_eq!(
         leg.kind,
         JointKind::Prismatic {
@@ -123,16 +123,16 @@ q = [0.0, 1.0, 0.0, 0.4, 0.2, 3.0, 1.0, 0.0]
             restitution: 0.3
         })
     );
-    assert!(model.bodies[2].is_fixed() && model.bodies[2].mass == 0.0);
-    let arm = model.bodies[3].joint.as_ref().unwrap();
+    assert!(model.bodies()[2].is_fixed() && model.bodies()[2].mass == 0.0);
+    let arm = model.bodies()[3].joint.as_ref().unwrap();
     assert_eq!(
         (arm.parent, arm.pivot_in_parent),
         (None, Vec2::new(1.0, 1.0))
     );
-    assert_eq!(model.bodies[4].joint, None);
+    assert_eq!(model.bodies()[4].joint, None);
     // The wall's box has no terrain contacts (it is fixed); the limits are two stops.
-    assert!(model.contacts.is_empty());
-    assert_eq!(model.limits.len(), 2);
+    assert!(model.contacts().is_empty());
+    assert_eq!(model.limits().len(), 2);
 }
 
 #[test]
@@ -140,16 +140,22 @@ fn robbit_has_the_parameters_of_table_5_1() {
     let s = load("scenes/robbit.toml", &[]).unwrap();
     let m = &s.model;
     assert_eq!(s.coordinates, ["x", "y", "phi", "psi"]);
-    assert_eq!((m.bodies[0].mass, m.bodies[0].inertia), (0.974, 3.004e-3));
-    assert_eq!((m.bodies[1].mass, m.bodies[1].inertia), (0.431, 1.543e-3));
+    assert_eq!(
+        (m.bodies()[0].mass, m.bodies()[0].inertia),
+        (0.974, 3.004e-3)
+    );
+    assert_eq!(
+        (m.bodies()[1].mass, m.bodies()[1].inertia),
+        (0.431, 1.543e-3)
+    );
     assert_eq!((s.settings.dt, s.settings.duration), (2e-4, 20.0));
     let ControllerConfig::MomentumImpulse(c) = &s.controller else {
         panic!("{:?}", s.controller)
     };
     assert_eq!(c.impulse_limit, 0.059);
-    assert!(m.contacts.iter().all(|c| c.material.friction == 1.0));
+    assert!(m.contacts().iter().all(|c| c.material.friction == 1.0));
     assert!(m
-        .contacts
+        .contacts()
         .iter()
         .all(|c| c.material.restitution_normal == 0.0));
 }
@@ -167,8 +173,8 @@ fn robbit_scenes_run_the_thesis_controls() {
     let default = load("scenes/robbit.toml", &[]).unwrap();
     let experiment = load("scenes/robbit-experiment.toml", &[]).unwrap();
     let (a, b) = (&default.model, &experiment.model);
-    assert_eq!(a.bodies, b.bodies);
-    assert_eq!(a.shapes, b.shapes);
+    assert_eq!(a.bodies(), b.bodies());
+    assert_eq!(a.shapes(), b.shapes());
     assert_eq!(default.initial, experiment.initial);
     for (scene, release) in [
         (&default, Release::Touchdown { rearm_timeout: 1.0 }),
@@ -254,8 +260,12 @@ fn overrides_change_values_by_path_and_by_name() {
     };
     assert_eq!(c.torque, 0.2);
     assert_eq!(s.initial.q[1], 0.15);
-    assert_eq!(s.model.bodies[1].mass, 0.5);
-    assert!(s.model.contacts.iter().all(|c| c.material.friction == 0.6));
+    assert_eq!(s.model.bodies()[1].mass, 0.5);
+    assert!(s
+        .model
+        .contacts()
+        .iter()
+        .all(|c| c.material.friction == 0.6));
     assert_eq!(s.settings.duration, 5.0);
     // The window of the summary shrinks with the run.
     assert_eq!(s.settings.speed_window, 5.0);

@@ -29,7 +29,7 @@ pub use run::{run, run_for};
 pub use simulation::{Simulation, CREATED_ENERGY, IMPACT_STEPS, PANIC_AT_STEP};
 pub use summary::{
     per_forward_metre, EnergySummary, ImpulseSummary, LcpSummary, Summary, WindowTotals,
-    IMPULSE_UNIT,
+    BALANCE_WARNING, IMPULSE_UNIT,
 };
 pub use sweep::{
     grid_jobs, grid_points, sweep, GridAxis, Progress, SweepJob, SweepPoint, NO_PROGRESS,

@@ -29,13 +29,13 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
             })
             .collect(),
         bodies: model
-            .bodies
+            .bodies()
             .iter()
             .enumerate()
             .map(|(b, body)| BodyInfo {
                 name: body.name.clone(),
                 shapes: model
-                    .shapes
+                    .shapes()
                     .iter()
                     .filter(|s| s.body == b)
                     .map(|s| (s.name.clone(), s.shape.clone()))
@@ -47,10 +47,10 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
             .map(|i| model.contact_name(i).to_string())
             .collect(),
         joints: joint_infos(scene),
-        springs: model.springs.iter().map(|s| s.name.clone()).collect(),
-        terrain: model.terrain.clone(),
+        springs: model.springs().iter().map(|s| s.name.clone()).collect(),
+        terrain: model.terrain().clone(),
         dt: scene.settings.dt,
-        weight_newtons: model.total_mass() * model.gravity.norm(),
+        weight_newtons: model.total_mass() * model.gravity().norm(),
         actuated: !matches!(scene.controller, ControllerConfig::Passive),
         actuator: match &scene.controller {
             ControllerConfig::Pulse(c) if c.drives_force(&scene.model) => ActuatorQuantity::Force,
@@ -65,7 +65,7 @@ fn joint_infos(scene: &Scene) -> Vec<JointInfo> {
     let model = &scene.model;
     let point = |v: hopsim_model::Vec2| [v.x, v.y];
     model
-        .bodies
+        .bodies()
         .iter()
         .enumerate()
         .filter_map(|(b, body)| {
@@ -130,8 +130,8 @@ impl RecordingObserver {
             contacts: Vec::new(),
             springs: Vec::new(),
             shapes_active: Vec::new(),
-            limit_loaded: vec![false; scene.model.limits.len()],
-            limit_loaded_now: vec![false; scene.model.limits.len()],
+            limit_loaded: vec![false; scene.model.limits().len()],
+            limit_loaded_now: vec![false; scene.model.limits().len()],
             limit_events: Vec::new(),
             last_step: (0, 0.0),
         }
@@ -205,7 +205,7 @@ impl RecordingObserver {
                     t: recorded_time(view.record.t),
                     step: view.record.step,
                     kind: EventKind::JointLimit {
-                        limit: view.model.limits[l.limit].name.clone(),
+                        limit: view.model.limits()[l.limit].name.clone(),
                         impulse: l.impulse,
                     },
                 });
@@ -225,14 +225,14 @@ impl RecordingObserver {
         let model = view.model;
         self.bodies.clear();
         self.bodies
-            .extend((0..model.bodies.len()).map(|b| BodyPose {
+            .extend((0..model.bodies().len()).map(|b| BodyPose {
                 position: [ws.position(b).x, ws.position(b).y],
                 angle: ws.angle(b),
             }));
         self.contacts.clear();
         // Body–body contacts follow the terrain contacts in `RecordingInfo::contacts`; their
         // point is the probe's and their percussion the one on the probe's body.
-        let terrain = model.contacts.len();
+        let terrain = model.contacts().len();
         let records = (view.record.contacts.iter().map(|c| (c, c.contact))).chain(
             view.record
                 .pair_contacts
@@ -249,7 +249,7 @@ impl RecordingObserver {
                 state: c.state.as_str(),
             }));
         self.springs.clear();
-        self.springs.extend((0..model.springs.len()).map(|s| {
+        self.springs.extend((0..model.springs().len()).map(|s| {
             let (a, b) = model.spring_ends(ws, s);
             ([a.x, a.y], [b.x, b.y])
         }));

@@ -86,22 +86,22 @@ impl<'s> Simulation<'s> {
     fn with_scene(scene: SceneRef<'s>) -> Self {
         let model = &scene.model;
         let mut stepper = Stepper::new(model, scene.step_settings());
-        let mut shapes_active = vec![true; model.shapes.len()];
+        let mut shapes_active = vec![true; model.shapes().len()];
         for &s in &scene.switchable {
             shapes_active[s] = false;
         }
-        for (i, c) in model.contacts.iter().enumerate() {
+        for (i, c) in model.contacts().iter().enumerate() {
             stepper.set_contact_enabled(i, shapes_active[c.shape]);
         }
         stepper.start(model, &scene.initial);
         let controller = scene.controller.build(model);
         let state = scene.initial.clone();
         let switchable_contact: Vec<bool> = model
-            .contacts
+            .contacts()
             .iter()
             .map(|c| scene.switchable.contains(&c.shape))
             .collect();
-        let contacts = model.contacts.len();
+        let contacts = model.contacts().len();
         let contact_count = model.contact_count();
         let flight = FlightTracker::starting(stepper.record().min_gap);
         Self {
@@ -291,7 +291,7 @@ impl<'s> Simulation<'s> {
         for ev in &self.control_events {
             if let ControlEvent::ShapeSwitch { shape, active } = *ev {
                 self.shapes_active[shape] = active;
-                for (i, c) in model.contacts.iter().enumerate() {
+                for (i, c) in model.contacts().iter().enumerate() {
                     if c.shape == shape {
                         self.stepper.set_contact_enabled(i, active);
                     }
@@ -300,7 +300,7 @@ impl<'s> Simulation<'s> {
                     t: t0,
                     step: step0,
                     kind: EventKind::ShapeSwitch {
-                        shape: model.shapes[shape].name.clone(),
+                        shape: model.shapes()[shape].name.clone(),
                         active,
                     },
                 });
@@ -356,7 +356,7 @@ impl<'s> Simulation<'s> {
             {
                 self.loaded_now[c.contact] = true;
             }
-            for (i, c) in model.contacts.iter().enumerate() {
+            for (i, c) in model.contacts().iter().enumerate() {
                 if self.switchable_contact[i] && self.loaded_now[i] && !self.was_loaded[i] {
                     self.events.push(Event {
                         t: record.t,
@@ -385,7 +385,7 @@ impl<'s> Simulation<'s> {
                     .pair_contacts
                     .iter()
                     .filter(|c| model.pair_touches_world(c.contact))
-                    .map(|c| (c, model.contacts.len() + c.contact));
+                    .map(|c| (c, model.contacts().len() + c.contact));
                 let contact = terrain
                     .chain(world)
                     .max_by(|a, b| a.0.impulse_normal.total_cmp(&b.0.impulse_normal))
@@ -441,12 +441,12 @@ fn impacts_creating_energy(
     dt: f64,
     events: &mut Vec<Event>,
 ) {
-    let impact = (IMPACT_STEPS * model.gravity.norm() * dt).max(1e-9);
+    let impact = (IMPACT_STEPS * model.gravity().norm() * dt).max(1e-9);
     let terrain = record.contacts.iter().map(|c| (c, c.contact));
     let pairs = record
         .pair_contacts
         .iter()
-        .map(|c| (c, model.contacts.len() + c.contact));
+        .map(|c| (c, model.contacts().len() + c.contact));
     for (c, i) in terrain.chain(pairs) {
         if c.approach_velocity < -impact && c.work > CREATED_ENERGY {
             events.push(Event {
@@ -489,7 +489,7 @@ impl Onsets {
         let pairs = record
             .pair_contacts
             .iter()
-            .map(|c| (c, model.contacts.len() + c.contact));
+            .map(|c| (c, model.contacts().len() + c.contact));
         for (c, i) in terrain.chain(pairs) {
             let frictional = model.material(i).friction > 0.0;
             if !(c.dependent && frictional && c.state != ContactState::Open) {

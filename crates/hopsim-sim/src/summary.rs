@@ -32,6 +32,12 @@ pub struct EnergySummary {
     pub at_end: EnergySample,
     /// The largest `|balance error|` over all steps.
     pub max_abs_balance_error: f64,
+    /// When the largest `|balance error|` was reached, s.
+    pub max_abs_balance_error_at_s: f64,
+    /// The run's energy scale (the largest [`hopsim_step::EnergyLedger::scale`] of any step), J: what the
+    /// balance error is measured against.
+    #[serde(rename = "scale_J")]
+    pub scale: f64,
     /// Impacts whose percussions added energy (`energy_created` events, docs/physics.md
     /// §4.7) and the energy they added, J.
     pub impacts_creating_energy: u64,
@@ -88,10 +94,18 @@ pub struct Summary {
     pub lcp: LcpSummary,
     pub wall_time_s: f64,
     pub steps_per_s: f64,
+    /// What the run found that limits its accuracy (e.g. [`BALANCE_WARNING`]); empty when
+    /// nothing did.
+    pub warnings: Vec<String>,
     /// Totals over the speed window.
     #[serde(skip)]
     pub window: WindowTotals,
 }
+
+/// A run whose energy account misses more than this fraction of its energy scale is told
+/// so in its summary (docs/physics.md §6.1): the midpoint scheme's error of a step too
+/// coarse for the motion (a light body turning fast, a body sliding through a joint).
+pub const BALANCE_WARNING: f64 = 0.05;
 
 /// Collects the summary from the steps it is shown.
 pub(crate) struct SummaryCollector {
@@ -108,6 +122,9 @@ pub(crate) struct SummaryCollector {
     window_brakes: u64,
     max_penetration: f64,
     max_balance_error: f64,
+    max_balance_error_at: f64,
+    potential_start: Option<f64>,
+    energy_scale: f64,
     impacts_creating_energy: u64,
     created_in_impacts: f64,
 }
@@ -138,11 +155,15 @@ impl SummaryCollector {
             impacts_creating_energy: 0,
             created_in_impacts: 0.0,
             max_balance_error: 0.0,
+            max_balance_error_at: start.t,
+            potential_start: None,
+            energy_scale: 0.0,
         }
     }
 
     /// The summary, given the last step (`end`), the run's LCP statistics and its wall time.
     pub(crate) fn finish(self, end: &StepView<'_>, lcp: LcpStats, wall_time_s: f64) -> Summary {
+        let warnings = self.warnings();
         let duration = end.state.t - self.t_start;
         let window = duration - self.window_start.max(0.0);
         let x_end = end.model.center_of_mass(end.kinematics).x;
@@ -164,9 +185,12 @@ impl SummaryCollector {
             },
             impulse_per_distance: per_forward_metre(self.impulses.total, distance),
             impulses: self.impulses,
+            warnings,
             energy: EnergySummary {
                 at_end: EnergySample::from_ledger(&end.record.energy),
                 max_abs_balance_error: self.max_balance_error,
+                max_abs_balance_error_at_s: self.max_balance_error_at,
+                scale: self.energy_scale,
                 impacts_creating_energy: self.impacts_creating_energy,
                 created_in_impacts: self.created_in_impacts,
             },
@@ -185,6 +209,26 @@ impl SummaryCollector {
                 impulse: self.window_impulse,
             },
         }
+    }
+}
+
+impl SummaryCollector {
+    /// The accuracy warnings of the run (see [`Summary::warnings`]).
+    fn warnings(&self) -> Vec<String> {
+        let mut warnings = Vec::new();
+        if self.max_balance_error > BALANCE_WARNING * self.energy_scale {
+            warnings.push(format!(
+                "the energy account misses {:.3e} J at t = {:.4} s, {:.0} % of the run's \
+                 energy ({:.3e} J): the time step {:e} s is too coarse for this motion \
+                 (a smaller simulation.dt reduces the error; docs/physics.md §6.1)",
+                self.max_balance_error,
+                self.max_balance_error_at,
+                100.0 * self.max_balance_error / self.energy_scale,
+                self.energy_scale,
+                self.dt
+            ));
+        }
+        warnings
     }
 }
 
@@ -263,8 +307,14 @@ impl Observer for SummaryCollector {
             }
         }
         self.max_penetration = self.max_penetration.max(view.record.max_penetration);
-        let balance = view.record.energy.balance_error().abs();
-        self.max_balance_error = self.max_balance_error.max(balance);
+        let energy = &view.record.energy;
+        let balance = energy.balance_error().abs();
+        if balance > self.max_balance_error {
+            self.max_balance_error = balance;
+            self.max_balance_error_at = t;
+        }
+        let potential_start = *self.potential_start.get_or_insert(energy.potential);
+        self.energy_scale = self.energy_scale.max(energy.scale(potential_start));
         Ok(())
     }
 }

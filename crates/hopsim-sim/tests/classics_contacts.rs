@@ -351,7 +351,7 @@ fn woodpecker_descends_on_its_limit_cycle() {
         let name = format!("{probe}/pole");
         scene
             .model
-            .pairs
+            .pairs()
             .iter()
             .position(|p| p.name == name)
             .unwrap_or_else(|| panic!("no contact {name}"))

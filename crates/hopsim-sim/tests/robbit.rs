@@ -113,7 +113,7 @@ fn brakes_exchange_angular_momentum_exactly() {
             u: scene.initial.u.as_slice().to_vec(),
         },
         dt: scene.settings.dt,
-        inertia: (m.bodies[0].inertia, m.bodies[1].inertia),
+        inertia: (m.bodies()[0].inertia, m.bodies()[1].inertia),
         brakes: 0,
         free_brakes: 0,
         failures: Vec::new(),

@@ -33,10 +33,10 @@ impl Observer for Crossings {
             .iter()
             .filter(|c| c.impulse_normal > 0.0)
         {
-            let pair = &model.pairs[c.contact];
+            let pair = &model.pairs()[c.contact];
             let wall_shape = [pair.probe, pair.target]
                 .into_iter()
-                .map(|s| model.shapes[s].name.as_str())
+                .map(|s| model.shapes()[s].name.as_str())
                 .find(|name| *name != "slider")
                 .unwrap();
             let wall = if wall_shape == "upper_wall" {

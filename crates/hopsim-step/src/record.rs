@@ -65,7 +65,8 @@ pub struct Resolution {
     /// Velocities `ξ_N`, `ξ_T`: the certificate's tolerance, m/s (or rad/s).
     pub velocity: f64,
     /// Percussions `Λ`: the larger of the tolerance over `‖A‖_∞` (for `Λ_N`, `Λ_R`, unknowns
-    /// of the LCP) and the tolerance itself (for `Λ_L`, an entry of `w`), N s (or N m s).
+    /// of the LCP) and the tolerance over the cone rows' scale (for `Λ_L`, which enters `w`
+    /// scaled, docs/physics.md §4.3), N s (or N m s).
     pub impulse: f64,
 }
 
@@ -172,6 +173,25 @@ impl EnergyLedger {
     /// What the account fails to explain: `ΔE - W_actuators + dissipated`.
     pub fn balance_error(&self) -> f64 {
         self.total() - self.initial - self.actuator_work + self.dissipated()
+    }
+
+    /// The energy the account is measured against (docs/physics.md §6.1), J: the largest of
+    /// `kinetic + |potential − potential_start| + spring` and the magnitudes of the
+    /// cumulative works (`potential_start`: the potential energy at the run's start, so that
+    /// the choice of the potential's zero does not matter).
+    pub fn scale(&self, potential_start: f64) -> f64 {
+        [
+            self.actuator_work,
+            self.contact_work,
+            self.limit_work,
+            self.lock_work,
+            self.damping_work,
+        ]
+        .iter()
+        .fold(
+            self.kinetic + (self.potential - potential_start).abs() + self.spring,
+            |m, w| m.max(w.abs()),
+        )
     }
 }
 

@@ -127,7 +127,7 @@ pub struct Stepper {
     /// `M(q^M)`, row-major `n × n`, and its `L D Lᵀ` factor.
     mass: Vec<f64>,
     factor: Factor,
-    /// `M` and its factor are those of every `q` (see [`Kinematics::jacobian_is_constant`])
+    /// `M` and its factor are those of every `q` (see [`Model::jacobian_is_constant`])
     /// and already built: stage 2 keeps them.
     mass_fixed: bool,
     h: Vec<f64>,
@@ -197,14 +197,14 @@ impl Stepper {
     pub fn new(model: &Model, settings: StepSettings) -> Self {
         let n = model.dof();
         let k = model.contact_count();
-        let limits = model.limits.len();
-        let locks = model.bodies.len();
+        let limits = model.limits().len();
+        let locks = model.bodies().len();
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
         let kinematics = Kinematics::new(model);
         let dampers = model.damper_capacity();
         // `M + Δt/2 C` is diagonal only without dampers.
-        let diagonal = kinematics.mass_matrix_is_diagonal() && dampers == 0;
+        let diagonal = model.mass_matrix_is_diagonal() && dampers == 0;
         lcp.reserve(3 * k + limits);
         Self {
             lcp,
@@ -212,7 +212,7 @@ impl Stepper {
             settings,
             t_start: 0.0,
             enabled: vec![true; k],
-            world_pairs: (0..model.pairs.len())
+            world_pairs: (0..model.pairs().len())
                 .filter(|&p| model.pair_touches_world(p))
                 .collect(),
             kinematics,
@@ -265,7 +265,7 @@ impl Stepper {
             lcp_b: DVector::zeros(3 * k + limits),
             record: StepRecord {
                 contacts: Vec::with_capacity(k),
-                pair_contacts: Vec::with_capacity(model.pairs.len()),
+                pair_contacts: Vec::with_capacity(model.pairs().len()),
                 limits: Vec::with_capacity(limits),
                 locks: Vec::with_capacity(locks),
                 ..StepRecord::default()
@@ -350,7 +350,7 @@ impl Stepper {
     /// world (the terrain's and those with shapes of fixed bodies), in one pass.
     fn fill_gaps(&mut self, model: &Model) {
         let mut min_gap = f64::INFINITY;
-        for i in 0..model.contacts.len() {
+        for i in 0..model.contacts().len() {
             if self.enabled[i] {
                 if let Some(g) = model.contact_geometry(&self.kinematics, i) {
                     min_gap = min_gap.min(g.gap);
@@ -358,7 +358,7 @@ impl Stepper {
             }
         }
         for &p in &self.world_pairs {
-            if self.enabled[model.contacts.len() + p] {
+            if self.enabled[model.contacts().len() + p] {
                 if let Some(g) = model.pair_geometry(&self.kinematics, p) {
                     min_gap = min_gap.min(g.gap);
                 }
@@ -474,8 +474,7 @@ impl Stepper {
             if !self.factor.factor(&self.mass, self.n) {
                 return Err(StepError::SingularMassMatrix { step, t });
             }
-            self.mass_fixed =
-                self.kinematics.jacobian_is_constant() && model.damping_rows_follow_jacobian();
+            self.mass_fixed = model.jacobian_is_constant() && model.damping_rows_follow_jacobian();
         }
         let applied = &mut self.applied[..dof::<N>(self.n)];
         applied.fill(0.0);
@@ -561,7 +560,7 @@ impl Stepper {
         let n = dof::<N>(self.n);
         self.active.clear();
         self.geometry.clear();
-        for i in 0..model.contacts.len() {
+        for i in 0..model.contacts().len() {
             if !self.enabled[i] {
                 continue;
             }
@@ -582,11 +581,11 @@ impl Stepper {
             );
             self.close_contact::<N>(i, geom);
         }
-        if !model.pairs.is_empty() {
+        if !model.pairs().is_empty() {
             self.pair_index_set(model);
         }
         self.active_limits.clear();
-        for (j, limit) in model.limits.iter().enumerate() {
+        for (j, limit) in model.limits().iter().enumerate() {
             let gap = limit.gap(self.kinematics.joint_position(limit.body));
             if gap > 0.0 {
                 continue;
@@ -688,7 +687,7 @@ impl Stepper {
         let ld = self.lcp_a.nrows();
         // Every entry of the `size × size` block is written once below (the zeros too), so
         // nothing is cleared first.
-        self.contact_friction::<N>(model, k);
+        let scale = self.contact_friction::<N>(model, k);
         let a = self.lcp_a.as_mut_slice();
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
@@ -706,12 +705,13 @@ impl Stepper {
                 a[(k + c) * ld + r] = g_nt;
                 a[c * ld + k + r] = g_tn - g_tt * mu_c;
                 a[(k + c) * ld + k + r] = g_tt;
-                // The rows and columns of `ξ_L`: only contact `r`'s own are non-zero.
+                // The rows and columns of `ξ_L`: only contact `r`'s own are non-zero, scaled
+                // by `s` (unknown `ξ_L / s`, row `s Λ_L`, docs/physics.md §4.3).
                 let own = r == c;
                 a[(2 * k + c) * ld + r] = 0.0;
-                a[(2 * k + c) * ld + k + r] = if own { 1.0 } else { 0.0 };
-                a[c * ld + 2 * k + r] = if own { 2.0 * mu_r } else { 0.0 };
-                a[(k + c) * ld + 2 * k + r] = if own { -1.0 } else { 0.0 };
+                a[(2 * k + c) * ld + k + r] = if own { scale } else { 0.0 };
+                a[c * ld + 2 * k + r] = if own { 2.0 * mu_r * scale } else { 0.0 };
+                a[(k + c) * ld + 2 * k + r] = if own { -scale } else { 0.0 };
                 a[(2 * k + c) * ld + 2 * k + r] = 0.0;
             }
             b[r] = dot(w_n, &self.u_tilde[..n]) + mat_r.restitution_normal * self.gamma_n[r];
@@ -742,7 +742,7 @@ impl Stepper {
         self.record.lcp_pivots = solution.pivots;
         self.record.resolution = Resolution {
             velocity: solution.certificate.tolerance,
-            impulse: impulse_resolution(&solution.certificate),
+            impulse: impulse_resolution(&solution.certificate, scale),
         };
         if solution.status == LcpStatus::Solved {
             // Λ_T = Λ_R − μ Λ_N, ξ_T = ξ_R − ξ_L. The certified solution meets the LCP to
@@ -755,7 +755,7 @@ impl Stepper {
                 let limit = mu * normal;
                 self.lambda_n[c] = normal;
                 self.lambda_t[c] = (solution.z[k + c] - mu * solution.z[c]).clamp(-limit, limit);
-                self.slip[c] = solution.w[k + c] - solution.z[2 * k + c];
+                self.slip[c] = solution.w[k + c] - scale * solution.z[2 * k + c];
             }
             for r in 0..l {
                 self.lambda_limit[r] = solution.z[3 * k + r].max(0.0);
@@ -783,8 +783,14 @@ impl Stepper {
     /// friction cannot act on its own, Coulomb's law leaves its percussions indeterminate
     /// (and Newton's law with `ε_T ≠ ε_N` contradicts itself), and the contact is a
     /// frictionless one, which moves the bodies exactly as the consistent law would.
-    fn contact_friction<const N: usize>(&mut self, model: &Model, k: usize) {
+    ///
+    /// Returns the scale `s` of the friction-cone rows (docs/physics.md §4.3): the largest
+    /// diagonal Delassus entry `G_NN`, `G_TT` of the closed contacts (1 where there is none),
+    /// so that every row of the LCP is a velocity and its certificate bounds the cone's
+    /// violation in the same units as the contact velocities.
+    fn contact_friction<const N: usize>(&mut self, model: &Model, k: usize) -> f64 {
         let n = dof::<N>(self.n);
+        let mut scale: f64 = 0.0;
         for c in 0..k {
             let (w_n, w_t) = (row(&self.w_n, n, c), row(&self.w_t, n, c));
             let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
@@ -796,6 +802,12 @@ impl Stepper {
             } else {
                 model.material(self.active[c]).friction
             };
+            scale = scale.max(g_nn).max(g_tt);
+        }
+        if scale.is_finite() && scale > 0.0 {
+            scale
+        } else {
+            1.0
         }
     }
 
@@ -828,7 +840,7 @@ impl Stepper {
             for c in 0..l {
                 a[(off + c) * ld + off + r] = dot(w_j, row(&self.solved, n, 1 + 2 * k + c));
             }
-            let restitution = model.limits[self.active_limits[r]].restitution;
+            let restitution = model.limits()[self.active_limits[r]].restitution;
             b[off + r] = dot(w_j, &self.u_tilde) + restitution * self.gamma_limit[r];
             // A stop whose velocity this step's locks fix (a braked joint: its mobility
             // gone with the projection) cannot move it: it takes no percussion, whatever its
@@ -889,7 +901,7 @@ impl Stepper {
         }
         self.record.resolution = Resolution {
             velocity: solution.certificate.tolerance,
-            impulse: impulse_resolution(&solution.certificate),
+            impulse: impulse_resolution(&solution.certificate, f64::INFINITY),
         };
         for c in 0..k {
             self.lambda_n[c] = solution.z[c].max(0.0);
@@ -938,7 +950,7 @@ impl Stepper {
             let j = self.active_limits[r];
             self.record.limits.push(LimitRecord {
                 limit: j,
-                body: model.limits[j].body,
+                body: model.limits()[j].body,
                 gap: self.limit_gap[r],
                 velocity_before: self.gamma_limit[r],
                 velocity_after: dot(row(&self.w_limit, n, r), &self.u_end),
@@ -969,7 +981,7 @@ impl Stepper {
             let state = ContactState::classify(ln, lt, xi_t, self.friction[c], resolution);
             let geom = self.geometry[c];
             // Terrain contacts, then body–body contacts (numbered from 0 in their list).
-            let terrain = model.contacts.len();
+            let terrain = model.contacts().len();
             let (records, contact) = match self.active[c].checked_sub(terrain) {
                 Some(p) => (&mut self.record.pair_contacts, p),
                 None => (&mut self.record.contacts, self.active[c]),
@@ -1130,11 +1142,13 @@ impl Stepper {
 }
 
 /// The resolution of a certified answer's percussions: `Λ_N`, `Λ_R` are unknowns `z`,
-/// certified to the tolerance over `‖A‖_∞`; `Λ_L = 2μΛ_N − Λ_R` is an entry of `w`,
-/// certified to the tolerance itself (the LCP of docs/physics.md §4.3 mixes units in `w`).
-/// The larger of the two bounds both.
-fn impulse_resolution(certificate: &hopsim_lcp::Certificate) -> f64 {
-    certificate.z_tolerance().max(certificate.tolerance)
+/// certified to the tolerance over `‖A‖_∞`; `Λ_L = 2μΛ_N − Λ_R` enters `w` as `s Λ_L`
+/// (the cone rows' scale `cone_scale`, docs/physics.md §4.3), certified to the tolerance
+/// over `s` (no cone rows: `s = ∞`). The larger of the two bounds both.
+fn impulse_resolution(certificate: &hopsim_lcp::Certificate, cone_scale: f64) -> f64 {
+    certificate
+        .z_tolerance()
+        .max(certificate.tolerance / cone_scale)
 }
 
 /// A contact's rows `w_N`, `w_T` are dependent when `G_NN G_TT − G_NT² ≤ DEPENDENT_ROWS

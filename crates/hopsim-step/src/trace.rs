@@ -132,7 +132,7 @@ impl ImpulseTrace {
                 self.samples.push(ImpulseSample {
                     step: record.step,
                     t: record.t,
-                    channel: model.contacts[c.contact].name.clone(),
+                    channel: model.contacts()[c.contact].name.clone(),
                     normal: c.impulse_normal,
                     tangent: c.impulse_tangent,
                 });
@@ -144,7 +144,8 @@ impl ImpulseTrace {
                 t: record.t,
                 channel: format!(
                     "lock:{}-{}",
-                    model.bodies[lock.body].name, model.bodies[lock.other].name
+                    model.bodies()[lock.body].name,
+                    model.bodies()[lock.other].name
                 ),
                 normal: lock.impulse,
                 tangent: 0.0,

@@ -150,8 +150,8 @@ fn single_body_point_and_rotational_impulses() {
 fn robbit_flywheel_and_disc_impulses() {
     let model = common::robbit();
     let (m, i_s, i_r) = (0.974 + 0.431, 3.004e-3, 1.543e-3);
-    assert_eq!(model.bodies[0].inertia, i_s);
-    assert_eq!(model.bodies[1].inertia, i_r);
+    assert_eq!(model.bodies()[0].inertia, i_s);
+    assert_eq!(model.bodies()[1].inertia, i_r);
     let mut rng = Rng(0xfeed_beef_cafe_f00d);
     let mut worst: f64 = 0.0;
     for case in 0..200 {

@@ -6,7 +6,8 @@
 mod common;
 
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointKind, Model, Shape, ShapeInstance, Terrain, Vec2,
+    Body, ContactMaterial, Joint, JointKind, Model, ModelBuilder, Shape, ShapeInstance, Terrain,
+    Vec2,
 };
 use hopsim_step::{Actuation, State, StepSettings, Stepper};
 
@@ -28,7 +29,7 @@ impl Discs {
                 radius: self.r[b],
             },
         };
-        let mut model = Model::new(
+        let mut builder = ModelBuilder::new(
             vec![
                 Body::base("a", self.m[0], self.inertia[0]),
                 Body::base("b", self.m[1], self.inertia[1]),
@@ -40,8 +41,8 @@ impl Discs {
             ContactMaterial::default(),
         )
         .unwrap();
-        model.add_body_contacts(0, 1, material).unwrap();
-        model
+        builder.add_body_contacts(0, 1, material).unwrap();
+        builder.build()
     }
 
     /// The closed-form impact map of one frictional contact between the discs (docs/physics.md
@@ -282,7 +283,7 @@ fn a_disc_on_a_fixed_body_moves_as_on_the_terrain() {
         radius: 0.1,
     };
     let ground = common::single_body(1.0, 0.005, disc.clone(), Terrain::flat(0.0), material);
-    let mut on_box = Model::new(
+    let mut builder = ModelBuilder::new(
         vec![
             Body::base("disc", 1.0, 0.005),
             Body {
@@ -311,7 +312,8 @@ fn a_disc_on_a_fixed_body_moves_as_on_the_terrain() {
         material,
     )
     .unwrap();
-    on_box.add_body_contacts(0, 1, material).unwrap();
+    builder.add_body_contacts(0, 1, material).unwrap();
+    let on_box = builder.build();
     let start = common::state(&[0.0, 0.4, 0.0], &[1.0, 0.0, -20.0]);
     let (mut a, mut b) = (start.clone(), start);
     let (mut sa, mut sb) = (

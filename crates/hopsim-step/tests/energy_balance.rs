@@ -14,8 +14,8 @@ fn run_hopper(dt: f64, duration: f64) -> (f64, f64, usize, usize) {
     let mut st = stepper(&model, dt);
     let mut s = two_body_hopper_state(&model, 0.02);
     st.start(&model, &s);
-    let cane: Vec<usize> = (0..model.contacts.len())
-        .filter(|&i| model.contacts[i].shape == 1)
+    let cane: Vec<usize> = (0..model.contacts().len())
+        .filter(|&i| model.contacts()[i].shape == 1)
         .collect();
     let mut act = Actuation::default();
     let (mut max_error, mut locks, mut contact_steps) = (0.0f64, 0, 0);

@@ -15,8 +15,7 @@ const PHI: f64 = 0.4;
 /// An eccentric disc touching down at `φ = 0.4` (gravity off), and a stepper whose Lemke
 /// runs may take `pivots` pivots and have no fallbacks.
 fn touchdown(strict: bool, pivots: usize) -> (hopsim_model::Model, Stepper, State) {
-    let mut model = eccentric_disc(1.3, 0.012, R, A, material(0.5, 0.0));
-    model.gravity = Vec2::zeros();
+    let model = eccentric_disc(1.3, 0.012, R, A, material(0.5, 0.0)).with_gravity(Vec2::zeros());
     let dt = 1e-3;
     let u = [0.3, -1.2, -2.0];
     let phi_a = PHI - 0.5 * dt * u[2];
@@ -195,7 +194,7 @@ fn the_record_carries_the_smallest_gap_of_the_enabled_contacts() {
     let act = Actuation::default();
     for _ in 0..3 {
         st.step(&model, &mut s, &act).unwrap();
-        let min = (0..model.contacts.len())
+        let min = (0..model.contacts().len())
             .filter_map(|i| model.contact_geometry(st.kinematics(), i))
             .map(|g| g.gap)
             .fold(f64::INFINITY, f64::min);
@@ -203,13 +202,13 @@ fn the_record_carries_the_smallest_gap_of_the_enabled_contacts() {
         assert_eq!(rec.min_gap, min);
         assert!(rec.min_gap > 0.04 && rec.max_penetration == 0.0);
     }
-    for i in 0..model.contacts.len() {
+    for i in 0..model.contacts().len() {
         st.set_contact_enabled(i, false);
     }
     let rec = st.step(&model, &mut s, &act).unwrap();
     assert_eq!((rec.min_gap, rec.max_penetration), (f64::INFINITY, 0.0));
     // Sunk 1 mm into the ground: the penetration is the negative gap.
-    for i in 0..model.contacts.len() {
+    for i in 0..model.contacts().len() {
         st.set_contact_enabled(i, true);
     }
     let mut s = two_body_hopper_state(&model, -1e-3);

@@ -30,7 +30,7 @@ fn closed_form_touchdown(phi: f64, u: Vector3<f64>) -> (f64, f64, f64) {
 fn stepped_touchdown(phi: f64, u: Vector3<f64>, dt: f64, gravity: bool) -> (f64, f64, f64) {
     let mut model = eccentric_disc(M, I, R, A, material(50.0, 0.0));
     if !gravity {
-        model.gravity = Vec2::zeros();
+        model = model.with_gravity(Vec2::zeros());
     }
     let mut st = stepper(&model, dt);
     // Place the disc so that the midpoint gap is just closed.
@@ -156,15 +156,15 @@ proptest! {
         dt in prop_oneof![Just(1e-4), Just(1e-3)],
     ) {
         let terrain = if on_step { Terrain::step(0.0, 0.05) } else { Terrain::flat(0.0) };
-        let mut model = single_body(1.0, 0.01, shape, terrain, material(mu, 0.0));
-        model.gravity = Vec2::zeros();
+        let model = single_body(1.0, 0.01, shape, terrain, material(mu, 0.0))
+            .with_gravity(Vec2::zeros());
         let mut st = stepper(&model, dt);
         // Lower the shape from above until its smallest gap is -depth at the midpoint.
         let mut s = state(&[x, 1.0, phi], &[vx, vy, w]);
         let mut placed = false;
         for _ in 0..50 {
             st.start(&model, &s);
-            let lowest = (0..model.contacts.len())
+            let lowest = (0..model.contacts().len())
                 .filter_map(|i| model.contact_geometry(st.kinematics(), i))
                 .map(|g| g.gap)
                 .fold(f64::INFINITY, f64::min);

@@ -72,7 +72,7 @@ fn passive(model: &Model, state: State, steps: usize, corner: usize) -> (usize, 
         touched |= rec
             .contacts
             .iter()
-            .any(|c| model.contacts[c.contact].terrain == corner && c.impulse_normal > 0.0);
+            .any(|c| model.contacts()[c.contact].terrain == corner && c.impulse_normal > 0.0);
     });
     (count, most, touched)
 }
@@ -137,8 +137,8 @@ fn two_body_hopper_with_springs_cane_impulses_and_brakes_does_not_allocate() {
                 impulse: Vec2::new(0.2, 0.4),
             });
         }
-        for i in 0..model.contacts.len() {
-            if model.contacts[i].shape == 1 {
+        for i in 0..model.contacts().len() {
+            if model.contacts()[i].shape == 1 {
                 stepper.set_contact_enabled(i, k % 500 < 250);
             }
         }
@@ -259,7 +259,7 @@ fn body_contacts_do_not_allocate() {
         kind: JointKind::Fixed { angle: 0.0 },
         ..Joint::revolute(None, Vec2::new(0.0, -0.5), Vec2::zeros())
     });
-    let mut model = Model::new(
+    let mut builder = hopsim_model::ModelBuilder::new(
         vec![
             Body::base("a", 1.0, 0.005),
             Body::base("b", 1.0, 0.005),
@@ -290,11 +290,12 @@ fn body_contacts_do_not_allocate() {
     .unwrap();
     for a in 0..5 {
         for b in a + 1..5 {
-            model
+            builder
                 .add_body_contacts(a, b, common::material(0.5, 0.3))
                 .unwrap();
         }
     }
+    let model = builder.build();
     let q = [
         0.0, 0.3, 0.0, 0.05, 0.55, 0.0, -0.08, 0.8, 0.0, 0.3, 0.15, 0.3,
     ];

@@ -185,18 +185,21 @@ pub struct GaitTrace {
 /// enters neither the mass matrix nor any force): revolute joints without a spring or
 /// stops.
 pub fn balanced_rotors(model: &Model) -> Vec<usize> {
-    (0..model.bodies.len())
+    (0..model.bodies().len())
         .filter(|&b| {
-            let balanced = model.bodies[b].joint.as_ref().is_some_and(|j| {
+            let balanced = model.bodies()[b].joint.as_ref().is_some_and(|j| {
                 j.kind == JointKind::Revolute
                     && j.com_in_child.norm() == 0.0
                     && j.stiffness == 0.0
                     && j.limits.is_none()
             });
-            let shaped = model.shapes.iter().any(|s| s.body == b);
-            let sprung = model.springs.iter().any(|s| s.body_a == b || s.body_b == b);
+            let shaped = model.shapes().iter().any(|s| s.body == b);
+            let sprung = model
+                .springs()
+                .iter()
+                .any(|s| s.body_a == b || s.body_b == b);
             let parent = model
-                .bodies
+                .bodies()
                 .iter()
                 .any(|c| c.joint.as_ref().is_some_and(|j| j.parent == Some(b)));
             balanced && !shaped && !sprung && !parent

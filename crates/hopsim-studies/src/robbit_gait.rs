@@ -457,18 +457,18 @@ mod tests {
         let initial = section_state(&p, &z, control.impulse_limit);
         let scene = robbit_scene(&p, &control, &settings, &initial).unwrap();
         let m = &scene.model;
-        let masses: Vec<(f64, f64)> = m.bodies.iter().map(|b| (b.mass, b.inertia)).collect();
+        let masses: Vec<(f64, f64)> = m.bodies().iter().map(|b| (b.mass, b.inertia)).collect();
         assert_eq!(masses, [(1.1, 4.1e-3), (0.3, 1.3e-3)]);
         assert_eq!(
-            m.shapes[0].shape,
+            m.shapes()[0].shape,
             Shape::Circle {
                 center: Vec2::new(0.0, 0.07),
                 radius: 0.25
             }
         );
-        assert_eq!(m.gravity, Vec2::new(0.0, -9.7));
+        assert_eq!(m.gravity(), Vec2::new(0.0, -9.7));
         assert!(m
-            .contacts
+            .contacts()
             .iter()
             .all(|c| c.material == ContactMaterial::inelastic(0.8)));
         let s = scene.step_settings();

@@ -97,17 +97,17 @@ pub fn robbit_cube(scene: &Scene) -> Option<Cube> {
         return None;
     };
     let model = &scene.model;
-    let disc = model.bodies[c.flywheel].joint.as_ref()?.parent?;
-    let (radius, eccentricity) = model.shapes.iter().find_map(|s| match s.shape {
+    let disc = model.bodies()[c.flywheel].joint.as_ref()?.parent?;
+    let (radius, eccentricity) = model.shapes().iter().find_map(|s| match s.shape {
         Shape::Circle { center, radius } if s.body == disc => Some((radius, center.norm())),
         _ => None,
     })?;
     Some(Cube::of_disc(
         model.total_mass(),
-        model.bodies[disc].inertia,
+        model.bodies()[disc].inertia,
         radius,
         eccentricity,
-        model.gravity.norm(),
+        model.gravity().norm(),
     ))
 }
 
@@ -261,6 +261,10 @@ impl fmt::Display for RunReport {
             f,
             "  wall time          {:>10.3} s ({:.0} steps/s)",
             s.wall_time_s, s.steps_per_s
-        )
+        )?;
+        for warning in &s.warnings {
+            write!(f, "\n  warning: {warning}")?;
+        }
+        Ok(())
     }
 }

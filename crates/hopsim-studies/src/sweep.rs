@@ -176,7 +176,7 @@ pub fn length_scale(scene: &Scene) -> f64 {
         Shape::Point { position } => position.norm(),
         Shape::Polygon { vertices } => vertices.iter().map(|v| v.norm()).fold(0.0, f64::max),
     };
-    let size = (scene.model.shapes.iter())
+    let size = (scene.model.shapes().iter())
         .map(|s| reach(&s.shape))
         .fold(0.0, f64::max);
     if size > 0.0 && size.is_finite() {

@@ -140,11 +140,11 @@ fn rolling_into_a_step_loses_the_collision_matrix_energy() {
         10.0,
     );
     let corner = model
-        .contacts
+        .contacts()
         .iter()
         .position(|c| {
             matches!(
-                model.terrain.features[c.terrain],
+                model.terrain().features[c.terrain],
                 TerrainFeature::Corner { .. }
             )
         })

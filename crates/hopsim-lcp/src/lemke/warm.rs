@@ -156,6 +156,25 @@ fn solve_basis_sized<const W: usize>(p: &ProblemRef<'_>, index: &[usize], b: &mu
     }
 }
 
+/// [`solve_basis_of_size`] for any number `k` of basic indices, in the heap scratch `a`
+/// (`k²` entries) by [`enumerate::gauss_solve`]; `b` (`k` entries) receives `z_B`. An
+/// empty basis (`z = 0`) has nothing to solve.
+fn solve_basis_heap(p: &ProblemRef<'_>, index: &[usize], a: &mut [f64], b: &mut [f64]) -> bool {
+    let k = index.len();
+    if k == 0 {
+        return true;
+    }
+    let mut a_max: f64 = 0.0;
+    for ((&i, a_row), b_i) in index.iter().zip(a.chunks_exact_mut(k)).zip(b.iter_mut()) {
+        for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
+            *a_ij = p.m(i, j);
+            a_max = a_max.max(a_ij.abs());
+        }
+        *b_i = -p.q[i];
+    }
+    enumerate::gauss_solve(a, k, b, k, SINGULAR * a_max)
+}
+
 impl LemkeSolver {
     /// Solves `(M, q)` like [`LemkeSolver::solve`], trying first the basis remembered in
     /// `warm` (when it has the problem's size); remembers the basis of the answer. A warm
@@ -168,7 +187,9 @@ impl LemkeSolver {
         warm: &mut WarmStart,
     ) -> Result<&LcpSolution, LcpInputError> {
         let n = m.nrows();
-        if n == 0 || warm.n != n || m.ncols() != n || q.len() != n {
+        // (The options are checked for size `n` once, by the ordinary solve, which
+        // refuses what it cannot accept: until then no warm answer.)
+        if n == 0 || warm.n != n || m.ncols() != n || q.len() != n || self.cover_n != n {
             return self.solve_and_remember(m, q, warm);
         }
         const _: () = assert!(MAX_WARM_FIXED == 6);
@@ -274,16 +295,7 @@ impl LemkeSolver {
         let solved = if W > 0 {
             solve_basis_sized::<W>(&p, index, b)
         } else {
-            let a = &mut self.lu[..k * k];
-            let mut a_max: f64 = 0.0;
-            for ((&i, a_row), b_i) in index.iter().zip(a.chunks_exact_mut(k)).zip(b.iter_mut()) {
-                for (&j, a_ij) in index.iter().zip(a_row.iter_mut()) {
-                    *a_ij = p.m(i, j);
-                    a_max = a_max.max(a_ij.abs());
-                }
-                *b_i = -q[i];
-            }
-            enumerate::gauss_solve(a, k, b, k, SINGULAR * a_max)
+            solve_basis_heap(&p, index, &mut self.lu[..k * k], b)
         };
         if !solved {
             return false;

@@ -10,8 +10,8 @@ impl Stepper {
     /// `w_N = J_Bᵀ n − J_Aᵀ n`, `w_T` likewise, and `γ^A` (docs/physics.md §7).
     pub(super) fn pair_index_set(&mut self, model: &Model) {
         let n = self.n;
-        let first = model.contacts.len();
-        for p in 0..model.pairs.len() {
+        let first = model.contacts().len();
+        for p in 0..model.pairs().len() {
             if !self.enabled[first + p] {
                 continue;
             }

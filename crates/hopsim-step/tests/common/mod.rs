@@ -167,7 +167,7 @@ pub fn two_body_hopper_state(model: &Model, clearance: f64) -> State {
     let mut s = state(&[0.0, 0.0, 0.0, 0.0], &[0.0; 4]);
     let mut kinematics = hopsim_model::Kinematics::new(model);
     kinematics.update(model, &s.q, &s.u);
-    let lowest = (0..model.contacts.len())
+    let lowest = (0..model.contacts().len())
         .filter_map(|i| model.contact_geometry(&kinematics, i))
         .map(|g| g.gap)
         .fold(f64::INFINITY, f64::min);
