@@ -1,31 +1,113 @@
 //! Column buffers: everything that changes every frame, buffered per entity and sent
 //! as chunks ([`RecordingStream::send_columns`]).
+//!
+//! Each entity keeps its own rows ([`Track`]): a row equal to the two before it only moves
+//! the end of their run, so a quantity that holds still (a constant torque, no contact in
+//! flight, a fixed base) costs two rows per run. The viewer shows the latest row at or
+//! before the time cursor and draws time series as lines between rows, so what it shows is
+//! the same as with every row.
 
-use super::drawing::{f32_point, Drawing, FORCE_ENTITY, LINK_ENTITY};
+use super::drawing::{
+    f32_point, Drawing, COM_ENTITY, CONTACTS_ENTITY, LINK_ENTITY, NORMAL_FORCE_ENTITY,
+};
 use super::{STEP_TIMELINE, TIME_TIMELINE};
 use crate::geometry::{wrap_angle, CoordinateUnit};
 use crate::{ActuatorQuantity, EnergySample, Frame, JointInfo, RecordingInfo};
 use rerun::{
-    Arrows2D, LineStrips2D, Points2D, Quaternion, RecordingStream, Scalars,
+    Arrows2D, LineStrips2D, Quaternion, RecordingStream, Scalars, SerializationError,
     SerializedComponentColumn, TimeColumn, Transform3D,
 };
 
 /// Frames per chunk of the columns sent to a file.
-pub(super) const CHUNK_FRAMES: usize = 1000;
+pub(super) const CHUNK_FRAMES: usize = 20000;
 
 /// Entity paths of the time series.
 pub(super) const PLOT_POSITION: &str = "plots/position_m";
 pub(super) const PLOT_ANGLE: &str = "plots/angle_rad";
 pub(super) const PLOT_ENERGY: &str = "plots/energy_J";
 pub(super) const PLOT_BALANCE: &str = "plots/energy_balance_error_J";
-pub(super) const PLOT_IMPULSE: &str = "plots/impulse_Ns";
-pub(super) const PLOT_NORMAL_IMPULSE: &str = "plots/impulse_Ns/normal";
-pub(super) const PLOT_TANGENT_IMPULSE: &str = "plots/impulse_Ns/tangent";
 /// Entity of the actuator's time series.
 pub(super) fn actuator_plot(actuator: ActuatorQuantity) -> &'static str {
     match actuator {
         ActuatorQuantity::Torque => "plots/actuator_torque_Nm",
         ActuatorQuantity::Force => "plots/actuator_force_N",
+    }
+}
+
+/// One entity's buffered rows: times, steps and a variable number of values per row.
+pub(super) struct Track<T> {
+    times: Vec<f64>,
+    steps: Vec<i64>,
+    pub(super) values: Vec<T>,
+    lens: Vec<usize>,
+    /// Some row was sent: later rows are sent even if empty (they clear what it showed).
+    sent: bool,
+}
+
+impl<T: Copy + PartialEq> Track<T> {
+    fn new(rows: usize, width: usize) -> Self {
+        Self {
+            times: Vec::with_capacity(rows),
+            steps: Vec::with_capacity(rows),
+            values: Vec::with_capacity(rows * width),
+            lens: Vec::with_capacity(rows),
+            sent: false,
+        }
+    }
+
+    /// Appends a row at `(t, step)`; a row equal to the two before it replaces the time
+    /// of the last one instead (the run's first and last rows are kept).
+    pub(super) fn push(&mut self, t: f64, step: i64, row: impl IntoIterator<Item = T>) {
+        let start = self.values.len();
+        self.values.extend(row);
+        let len = self.values.len() - start;
+        let n = self.lens.len();
+        if n >= 2 && self.lens[n - 1] == len && self.lens[n - 2] == len {
+            let (last, before) = (start - len, start - 2 * len);
+            let v = &self.values;
+            if v[start..] == v[last..start] && v[last..start] == v[before..last] {
+                self.values.truncate(start);
+                self.times[n - 1] = t;
+                self.steps[n - 1] = step;
+                return;
+            }
+        }
+        self.times.push(t);
+        self.steps.push(step);
+        self.lens.push(len);
+    }
+
+    /// Number of buffered rows.
+    pub(super) fn rows(&self) -> usize {
+        self.lens.len()
+    }
+
+    /// Sends the rows as one chunk of `entity` (the columns made by `columns` from the
+    /// values and the row lengths) and empties the buffer. Rows are not sent before the
+    /// first value: nothing is shown either way.
+    fn send(
+        &mut self,
+        stream: &RecordingStream,
+        entity: &str,
+        columns: impl FnOnce(
+            &[T],
+            &[usize],
+        ) -> Result<Vec<SerializedComponentColumn>, SerializationError>,
+    ) -> Result<(), String> {
+        if self.rows() > 0 && (self.sent || !self.values.is_empty()) {
+            let time = TimeColumn::new_duration_secs(TIME_TIMELINE, self.times.iter().copied());
+            let step = TimeColumn::new_sequence(STEP_TIMELINE, self.steps.iter().copied());
+            let columns = columns(&self.values, &self.lens).map_err(|e| e.to_string())?;
+            stream
+                .send_columns(entity, [time, step], columns)
+                .map_err(|e| e.to_string())?;
+            self.sent = true;
+        }
+        self.times.clear();
+        self.steps.clear();
+        self.values.clear();
+        self.lens.clear();
+        Ok(())
     }
 }
 
@@ -39,50 +121,43 @@ pub(super) enum Quantity {
     /// These entries of [`EnergySample::values`].
     Energies(Vec<usize>),
     BalanceError,
-    /// Λ_N (`false`) or Λ_T (`true`) of every contact, 0 when not in the index set.
-    Impulses {
-        tangent: bool,
-    },
+    /// Λ_N of every contact, then Λ_T of every contact, 0 when not in the index set: rows
+    /// of the contacts' entity, with their force arrows ([`Columns::push`]).
+    Impulses,
     Torque,
 }
 
-/// One time-series entity and its buffered column (`names.len()` values per frame).
+/// One time-series entity and its buffered rows (`names.len()` values per frame).
 pub(super) struct Series {
     pub(super) entity: &'static str,
     pub(super) quantity: Quantity,
     pub(super) names: Vec<String>,
     /// Palette index of the first series: series drawn in one panel differ in colour.
     pub(super) first_color: usize,
-    pub(super) values: Vec<f64>,
+    pub(super) track: Track<f64>,
 }
 
 impl Series {
-    /// Appends the values of `frame`.
-    pub(super) fn push(&mut self, frame: &Frame<'_>) {
-        let start = self.values.len();
+    /// Appends the values of `frame`, rounded to single precision (7 significant digits,
+    /// beyond what a plot shows; the MCAP and CSV recordings keep every digit).
+    pub(super) fn push(&mut self, frame: &Frame<'_>, t: f64, step: i64) {
+        let single = |v: f64| f64::from(v as f32);
+        let track = &mut self.track;
         match &self.quantity {
-            Quantity::Lengths(which) => self.values.extend(which.iter().map(|&i| frame.q[i])),
+            Quantity::Lengths(which) => {
+                track.push(t, step, which.iter().map(|&i| single(frame.q[i])));
+            }
             Quantity::Angles(which) => {
-                let angles = which.iter().map(|&i| wrap_angle(frame.q[i]));
-                self.values.extend(angles);
+                let angles = which.iter().map(|&i| single(wrap_angle(frame.q[i])));
+                track.push(t, step, angles);
             }
             Quantity::Energies(which) => {
                 let e = frame.energy.values();
-                self.values.extend(which.iter().map(|&i| e[i]));
+                track.push(t, step, which.iter().map(|&i| single(e[i])));
             }
-            Quantity::BalanceError => self.values.push(frame.energy.balance_error),
-            Quantity::Impulses { tangent } => {
-                self.values.resize(start + self.names.len(), 0.0);
-                for c in frame.contacts {
-                    let value = if *tangent {
-                        c.impulse_tangent
-                    } else {
-                        c.impulse_normal
-                    };
-                    self.values[start + c.contact] = value;
-                }
-            }
-            Quantity::Torque => self.values.push(frame.actuator_torque),
+            Quantity::BalanceError => track.push(t, step, [single(frame.energy.balance_error)]),
+            Quantity::Impulses => {}
+            Quantity::Torque => track.push(t, step, [single(frame.actuator_torque)]),
         }
     }
 }
@@ -96,7 +171,7 @@ pub(super) fn scene_series(info: &RecordingInfo) -> Vec<Series> {
         quantity,
         names,
         first_color,
-        values: Vec::new(),
+        track: Track::new(0, 0),
     };
     // Each coordinate in its unit: lengths in metres, angles in radians.
     let (lengths, angles): (Vec<usize>, Vec<usize>) = (0..info.coordinates.len())
@@ -129,16 +204,13 @@ pub(super) fn scene_series(info: &RecordingInfo) -> Vec<Series> {
     all.push(series(PLOT_ENERGY, Quantity::Energies(energies), names, 0));
     let balance = vec!["balance error".to_string()];
     all.push(series(PLOT_BALANCE, Quantity::BalanceError, balance, 0));
-    let n = info.contacts.len();
-    if n > 0 {
+    if !info.contacts.is_empty() {
         let names = |component: &str| {
             let names = info.contacts.iter().map(|c| format!("{component} {c}"));
             names.collect::<Vec<_>>()
         };
-        let normal = Quantity::Impulses { tangent: false };
-        all.push(series(PLOT_NORMAL_IMPULSE, normal, names("Λ_N"), 0));
-        let tangent = Quantity::Impulses { tangent: true };
-        all.push(series(PLOT_TANGENT_IMPULSE, tangent, names("Λ_T"), n));
+        let names = [names("Λ_N"), names("Λ_T")].concat();
+        all.push(series(CONTACTS_ENTITY, Quantity::Impulses, names, 0));
     }
     if info.actuated {
         let torque = vec![info.actuator.words().to_string()];
@@ -150,88 +222,139 @@ pub(super) fn scene_series(info: &RecordingInfo) -> Vec<Series> {
 
 /// Everything that changes every frame, buffered in columns until sent.
 pub(super) struct Columns {
-    pub(super) times: Vec<f64>,
-    pub(super) steps: Vec<i64>,
+    /// Frames pushed since the columns were last sent.
+    frames: usize,
     pub(super) series: Vec<Series>,
-    /// Per body: position (z = 0) and rotation about z.
-    pub(super) translations: Vec<Vec<[f32; 3]>>,
-    pub(super) rotations: Vec<Vec<Quaternion>>,
-    pub(super) com: Vec<[f32; 2]>,
-    /// Spring segments, `springs` per frame.
-    pub(super) springs: Vec<[[f32; 2]; 2]>,
+    /// Per body: position relative to the robot's centre of mass (z = 0) and rotation about
+    /// z (a quaternion `x, y, z, w`).
+    poses: Vec<Track<([f32; 3], [f32; 4])>>,
+    /// The robot's centre of mass: the translation of its frame (`world/com`).
+    com: Track<[f32; 3]>,
+    /// Spring segments, `spring_count` per frame.
+    springs: Track<[[f32; 2]; 2]>,
     pub(super) spring_count: usize,
     /// The prismatic joints and their link segments, one per joint and frame.
     pub(super) prismatic: Vec<JointInfo>,
-    pub(super) links: Vec<[[f32; 2]; 2]>,
-    /// Contact-force arrows and how many each frame has.
-    pub(super) arrow_origins: Vec<[f32; 2]>,
-    pub(super) arrow_vectors: Vec<[f32; 2]>,
-    pub(super) arrows_per_frame: Vec<usize>,
+    pub(super) links: Track<[[f32; 2]; 2]>,
+    /// The contacts' impulses and their force arrows, and the arrows of the normal force
+    /// only where friction is indeterminate (`[origin, vector]`).
+    contacts: Track<ContactValue>,
+    contact_count: usize,
+    normal_forces: Track<[[f32; 2]; 2]>,
+}
+
+/// A value of a row of the contacts' entity: an impulse (N s, a time series) or a force
+/// arrow `[origin, vector]` (m). One entity holds both, so they share one row per frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ContactValue {
+    Impulse(f64),
+    Force([[f32; 2]; 2]),
+}
+
+/// The impulses and the force arrows of a row of the contacts' entity, each in order.
+fn split_contact_row(row: &[ContactValue]) -> (Vec<f64>, Vec<[[f32; 2]; 2]>) {
+    let mut impulses = Vec::with_capacity(row.len());
+    let mut forces = Vec::new();
+    for value in row {
+        match *value {
+            ContactValue::Impulse(x) => impulses.push(x),
+            ContactValue::Force(arrow) => forces.push(arrow),
+        }
+    }
+    (impulses, forces)
 }
 
 impl Columns {
     pub(super) fn new(info: &RecordingInfo) -> Self {
         let mut series = scene_series(info);
         for s in &mut series {
-            s.values.reserve(CHUNK_FRAMES * s.names.len());
+            s.track = Track::new(CHUNK_FRAMES, s.names.len());
         }
-        let bodies = info.bodies.len();
+        let prismatic = prismatic_joints(info);
+        let contacts = info.contacts.len();
         Self {
-            times: Vec::with_capacity(CHUNK_FRAMES),
-            steps: Vec::with_capacity(CHUNK_FRAMES),
+            frames: 0,
             series,
-            translations: vec![Vec::with_capacity(CHUNK_FRAMES); bodies],
-            rotations: vec![Vec::with_capacity(CHUNK_FRAMES); bodies],
-            com: Vec::with_capacity(CHUNK_FRAMES),
-            springs: Vec::with_capacity(CHUNK_FRAMES * info.springs.len()),
+            poses: (0..info.bodies.len())
+                .map(|_| Track::new(CHUNK_FRAMES, 1))
+                .collect(),
+            com: Track::new(CHUNK_FRAMES, 1),
+            springs: Track::new(CHUNK_FRAMES, info.springs.len()),
             spring_count: info.springs.len(),
-            prismatic: prismatic_joints(info),
-            links: Vec::with_capacity(CHUNK_FRAMES * prismatic_joints(info).len()),
-            arrow_origins: Vec::new(),
-            arrow_vectors: Vec::new(),
-            arrows_per_frame: Vec::with_capacity(CHUNK_FRAMES),
+            links: Track::new(CHUNK_FRAMES, prismatic.len()),
+            prismatic,
+            contacts: Track::new(CHUNK_FRAMES, 3 * contacts),
+            contact_count: contacts,
+            normal_forces: Track::new(CHUNK_FRAMES, 0),
         }
     }
 
+    /// Frames pushed since the columns were last sent.
     pub(super) fn len(&self) -> usize {
-        self.times.len()
+        self.frames
     }
 
     /// Appends `frame`.
     pub(super) fn push(&mut self, frame: &Frame<'_>, drawing: &Drawing) {
-        self.times.push(frame.t.max(0.0));
-        self.steps
-            .push(i64::try_from(frame.step).unwrap_or(i64::MAX));
+        self.frames += 1;
+        let t = frame.t.max(0.0);
+        let step = i64::try_from(frame.step).unwrap_or(i64::MAX);
         for s in &mut self.series {
-            s.push(frame);
+            s.push(frame, t, step);
         }
-        for (b, pose) in frame.bodies.iter().enumerate() {
-            let [x, y] = f32_point(pose.position);
-            self.translations[b].push([x, y, 0.0]);
+        let [cx, cy] = frame.com;
+        for (track, pose) in self.poses.iter_mut().zip(frame.bodies) {
+            let [x, y] = f32_point([pose.position[0] - cx, pose.position[1] - cy]);
             let (sin, cos) = (0.5 * pose.angle).sin_cos();
-            self.rotations[b].push(Quaternion::from_xyzw([0.0, 0.0, sin as f32, cos as f32]));
+            track.push(t, step, [([x, y, 0.0], [0.0, 0.0, sin as f32, cos as f32])]);
         }
-        self.com.push(f32_point(frame.com));
-        self.springs.extend(
-            frame
-                .springs
-                .iter()
-                .map(|(a, b)| [f32_point(*a), f32_point(*b)]),
+        let [x, y] = f32_point(frame.com);
+        self.com.push(t, step, [[x, y, 0.0]]);
+        let springs = frame.springs.iter();
+        self.springs.push(
+            t,
+            step,
+            springs.map(|(a, b)| [f32_point(*a), f32_point(*b)]),
         );
-        self.links.extend(
-            self.prismatic
-                .iter()
-                .map(|j| j.link(frame.bodies).map(f32_point)),
-        );
-        let before = self.arrow_origins.len();
-        for c in frame.contacts {
-            if let Some(v) = drawing.force_arrow(c.normal, c.impulse_normal, c.impulse_tangent) {
-                self.arrow_origins.push(f32_point(c.point));
-                self.arrow_vectors.push(f32_point(v));
-            }
-        }
-        self.arrows_per_frame
-            .push(self.arrow_origins.len() - before);
+        let links = self
+            .prismatic
+            .iter()
+            .map(|j| j.link(frame.bodies).map(f32_point));
+        self.links.push(t, step, links);
+        let n = self.contact_count;
+        let impulse = |i: usize| {
+            let sample = frame.contacts.iter().find(|c| c.contact == i % n);
+            let value = sample.map_or(0.0, |c| {
+                if i < n {
+                    c.impulse_normal
+                } else {
+                    c.impulse_tangent
+                }
+            });
+            // Single precision: 7 significant digits, beyond what a plot shows (the MCAP
+            // and CSV recordings keep every digit).
+            ContactValue::Impulse(f64::from(value as f32))
+        };
+        let arrow = |indeterminate: bool| {
+            let contacts = frame.contacts.iter();
+            contacts
+                .filter(move |c| c.friction_indeterminate == indeterminate)
+                .filter_map(move |c| {
+                    // Without friction the tangential percussion is 0 (docs/physics.md
+                    // §4.8); the arrow says so whatever the record holds.
+                    let tangent = if indeterminate {
+                        0.0
+                    } else {
+                        c.impulse_tangent
+                    };
+                    let v = drawing.force_arrow(c.normal, c.impulse_normal, tangent)?;
+                    Some([f32_point(c.point), f32_point(v)])
+                })
+        };
+        let forces = arrow(false).map(ContactValue::Force);
+        self.contacts
+            .push(t, step, (0..2 * n).map(impulse).chain(forces));
+        self.normal_forces.push(t, step, arrow(true));
     }
 
     /// Sends every buffered column as one chunk per entity and empties the buffers.
@@ -240,75 +363,60 @@ impl Columns {
         stream: &RecordingStream,
         drawing: &Drawing,
     ) -> Result<(), String> {
-        let rows = self.len();
-        if rows == 0 {
-            return Ok(());
-        }
-        let time = TimeColumn::new_duration_secs(TIME_TIMELINE, self.times.iter().copied());
-        let step = TimeColumn::new_sequence(STEP_TIMELINE, self.steps.iter().copied());
-        let send = |entity: &str,
-                    columns: Result<
-            Vec<SerializedComponentColumn>,
-            rerun::SerializationError,
-        >| {
-            let columns = columns.map_err(|e| e.to_string())?;
-            stream
-                .send_columns(entity, [time.clone(), step.clone()], columns)
-                .map_err(|e| e.to_string())
-        };
-        for s in &self.series {
-            let scalars = Scalars::update_fields().with_scalars(s.values.iter().copied());
-            let lengths = std::iter::repeat_n(s.names.len(), rows);
-            send(s.entity, scalars.columns(lengths).map(Iterator::collect))?;
-        }
-        for (b, body) in drawing.bodies.iter().enumerate() {
-            let transform = Transform3D::update_fields()
-                .with_many_translation(self.translations[b].iter().copied())
-                .with_many_quaternion(self.rotations[b].iter().copied());
-            send(
-                &body.entity,
-                transform.columns_of_unit_batches().map(Iterator::collect),
-            )?;
-        }
-        let com = Points2D::update_fields().with_positions(self.com.iter().copied());
-        send(
-            "world/com",
-            com.columns_of_unit_batches().map(Iterator::collect),
-        )?;
-        if self.spring_count > 0 {
-            let springs = LineStrips2D::update_fields().with_strips(self.springs.iter().copied());
-            let lengths = std::iter::repeat_n(self.spring_count, rows);
-            send(
-                "world/springs",
-                springs.columns(lengths).map(Iterator::collect),
-            )?;
-        }
-        if !self.prismatic.is_empty() {
-            let links = LineStrips2D::update_fields().with_strips(self.links.iter().copied());
-            let lengths = std::iter::repeat_n(self.prismatic.len(), rows);
-            send(LINK_ENTITY, links.columns(lengths).map(Iterator::collect))?;
-        }
-        if !drawing.contacts_empty {
-            let arrows = Arrows2D::update_fields()
-                .with_vectors(self.arrow_vectors.iter().copied())
-                .with_origins(self.arrow_origins.iter().copied());
-            let lengths = self.arrows_per_frame.iter().copied();
-            send(FORCE_ENTITY, arrows.columns(lengths).map(Iterator::collect))?;
-        }
-        self.times.clear();
-        self.steps.clear();
+        self.frames = 0;
         for s in &mut self.series {
-            s.values.clear();
+            s.track.send(stream, s.entity, |values, lens| {
+                let scalars = Scalars::update_fields().with_scalars(values.iter().copied());
+                scalars.columns(lens.iter().copied()).map(Iterator::collect)
+            })?;
         }
-        self.translations.iter_mut().for_each(Vec::clear);
-        self.rotations.iter_mut().for_each(Vec::clear);
-        self.com.clear();
-        self.springs.clear();
-        self.links.clear();
-        self.arrow_origins.clear();
-        self.arrow_vectors.clear();
-        self.arrows_per_frame.clear();
-        Ok(())
+        for (track, body) in self.poses.iter_mut().zip(&drawing.bodies) {
+            track.send(stream, &body.entity, |poses, _| {
+                Transform3D::update_fields()
+                    .with_many_translation(poses.iter().map(|p| p.0))
+                    .with_many_quaternion(poses.iter().map(|p| Quaternion::from_xyzw(p.1)))
+                    .columns_of_unit_batches()
+                    .map(Iterator::collect)
+            })?;
+        }
+        self.com.send(stream, COM_ENTITY, |com, _| {
+            Transform3D::update_fields()
+                .with_many_translation(com.iter().copied())
+                .columns_of_unit_batches()
+                .map(Iterator::collect)
+        })?;
+        let strips = |segments: &[[[f32; 2]; 2]], lens: &[usize]| {
+            let strips = LineStrips2D::update_fields().with_strips(segments.iter().copied());
+            strips.columns(lens.iter().copied()).map(Iterator::collect)
+        };
+        self.springs.send(stream, "world/springs", strips)?;
+        self.links.send(stream, LINK_ENTITY, strips)?;
+        let arrows = |arrows: &[[[f32; 2]; 2]], lens: &[usize]| {
+            Arrows2D::update_fields()
+                .with_origins(arrows.iter().map(|a| a[0]))
+                .with_vectors(arrows.iter().map(|a| a[1]))
+                .columns(lens.iter().copied())
+                .map(Iterator::collect)
+        };
+        self.contacts
+            .send(stream, CONTACTS_ENTITY, |values, lens| {
+                let (mut impulses, mut forces) = (Vec::new(), Vec::new());
+                let (mut impulse_lens, mut force_lens) = (Vec::new(), Vec::new());
+                let mut start = 0;
+                for &len in lens {
+                    let (row_impulses, row_forces) = split_contact_row(&values[start..start + len]);
+                    impulse_lens.push(row_impulses.len());
+                    force_lens.push(row_forces.len());
+                    impulses.extend(row_impulses);
+                    forces.extend(row_forces);
+                    start += len;
+                }
+                let scalars = Scalars::update_fields().with_scalars(impulses);
+                let mut columns: Vec<_> = scalars.columns(impulse_lens)?.collect();
+                columns.extend(arrows(&forces, &force_lens)?);
+                Ok(columns)
+            })?;
+        self.normal_forces.send(stream, NORMAL_FORCE_ENTITY, arrows)
     }
 }
 
@@ -327,6 +435,26 @@ mod tests {
     use super::super::tests::empty_info;
     use super::*;
     use crate::geometry::palette;
+
+    /// The first frame of a run with these bodies and contacts.
+    fn frame_at_rest<'a>(
+        bodies: &'a [crate::BodyPose],
+        contacts: &'a [crate::ContactSample],
+    ) -> Frame<'a> {
+        Frame {
+            t: 0.0,
+            step: 0,
+            q: &[],
+            u: &[],
+            bodies,
+            com: [0.0, 0.0],
+            contacts,
+            springs: &[],
+            shapes_active: &[],
+            energy: EnergySample::default(),
+            actuator_torque: 0.0,
+        }
+    }
 
     #[test]
     fn prismatic_links_go_from_the_anchor_to_the_joint_point() {
@@ -359,27 +487,60 @@ mod tests {
             },
         ];
         let mut columns = Columns::new(&info);
-        let frame = Frame {
-            t: 0.0,
-            step: 0,
-            q: &[],
-            u: &[],
-            bodies: &poses,
-            com: [0.0, 0.0],
-            contacts: &[],
-            springs: &[],
-            shapes_active: &[],
-            energy: EnergySample::default(),
-            actuator_torque: 0.0,
-        };
-        columns.push(&frame, &Drawing::new(&info));
-        let [a, b] = columns.links[0];
+        columns.push(&frame_at_rest(&poses, &[]), &Drawing::new(&info));
+        let [a, b] = columns.links.values[0];
         let close =
             |p: [f32; 2], q: [f32; 2]| (p[0] - q[0]).abs() < 1e-6 && (p[1] - q[1]).abs() < 1e-6;
         assert!(close(a, [1.0, 2.1]), "{a:?}");
         assert!(close(b, [0.9, 2.1]), "{b:?}");
         // Its rail in the parent's frame: the anchor plus 0 to 0.5 along (0, −1).
         assert_eq!(info.joints[0].rail(), Some((0, [[0.1, 0.0], [0.1, -0.5]])));
+    }
+
+    /// A contact carrying the robot's weight draws an arrow as long as the robot along its
+    /// force; one whose friction is indeterminate draws its normal force alone, apart; both
+    /// contacts' impulses are plotted.
+    #[test]
+    fn force_arrows_show_the_normal_force_alone_where_friction_is_indeterminate() {
+        let mut info = empty_info();
+        info.contacts = vec!["foot/ground".into(), "guide/ground".into()];
+        info.weight_newtons = 9.81;
+        let drawing = Drawing::new(&info);
+        let size = drawing.robot_size_m;
+        // Λ = W Δt: the mean force over the step is the weight.
+        let impulse = info.weight_newtons * info.dt;
+        let sample = |contact, tangent, friction_indeterminate| crate::ContactSample {
+            contact,
+            point: [0.5, 0.0],
+            normal: [0.0, 1.0],
+            impulse_normal: impulse,
+            impulse_tangent: tangent,
+            state: "stick",
+            friction_indeterminate,
+        };
+        // Λ_T = −3/4 Λ_N along t = (n_y, −n_x) = (1, 0): the force leans back.
+        let contacts = [
+            sample(0, -0.75 * impulse, false),
+            sample(1, 0.5 * impulse, true),
+        ];
+        let mut columns = Columns::new(&info);
+        columns.push(&frame_at_rest(&[], &contacts), &drawing);
+        let close = |p: [f32; 2], q: [f64; 2]| {
+            (f64::from(p[0]) - q[0]).abs() < 1e-6 * size
+                && (f64::from(p[1]) - q[1]).abs() < 1e-6 * size
+        };
+        let (impulses, forces) = split_contact_row(&columns.contacts.values);
+        assert_eq!(forces.len(), 1);
+        assert!(close(forces[0][0], [0.5, 0.0]));
+        assert!(close(forces[0][1], [-0.75 * size, size]), "{:?}", forces[0]);
+        let normal = &columns.normal_forces.values;
+        assert_eq!(normal.len(), 1);
+        assert!(close(normal[0][1], [0.0, size]), "{:?}", normal[0]);
+        let single = |x: f64| f64::from(x as f32);
+        assert_eq!(
+            impulses,
+            [impulse, impulse, -0.75 * impulse, 0.5 * impulse].map(single)
+        );
     }
 
     #[test]
@@ -422,23 +583,49 @@ mod tests {
                 PLOT_ANGLE,
                 PLOT_ENERGY,
                 PLOT_BALANCE,
-                PLOT_NORMAL_IMPULSE,
-                PLOT_TANGENT_IMPULSE,
+                CONTACTS_ENTITY,
                 actuator_plot(ActuatorQuantity::Torque)
             ]
         );
         // Series sharing a panel get different colours.
         let series = scene_series(&info);
-        let impulse_colors: Vec<_> = series
-            .iter()
-            .filter(|s| s.entity.starts_with(PLOT_IMPULSE))
-            .map(|s| palette(s.first_color))
-            .collect();
-        assert_ne!(impulse_colors[0], impulse_colors[1]);
+        let impulses = series.iter().find(|s| s.entity == CONTACTS_ENTITY).unwrap();
+        assert_eq!(impulses.names, ["Λ_N disc/ground", "Λ_T disc/ground"]);
+        assert_ne!(
+            palette(impulses.first_color),
+            palette(impulses.first_color + 1)
+        );
         assert_ne!(palette(0), palette(1), "x and y differ");
         assert_eq!(
             Drawing::new(&empty_info()).arrow_scale_m_per_n,
             FALLBACK_ARROW_SCALE_M_PER_N
         );
+    }
+
+    /// The value the viewer shows at `t`: that of the latest kept row at or before `t`.
+    fn shown_at(track: &Track<u8>, t: f64) -> Option<&[u8]> {
+        let row = track.times.iter().rposition(|&s| s <= t)?;
+        let start: usize = track.lens[..row].iter().sum();
+        Some(&track.values[start..start + track.lens[row]])
+    }
+
+    proptest::proptest! {
+        /// Dropping the inside of runs of equal rows changes nothing the viewer shows: at
+        /// each frame's time the latest kept row is that frame's row, and a run costs at
+        /// most two rows.
+        #[test]
+        fn trimmed_rows_show_every_frame(rows in proptest::collection::vec(
+            proptest::collection::vec(0u8..2, 0..3), 1..60)) {
+            let mut track = Track::new(0, 0);
+            for (k, row) in rows.iter().enumerate() {
+                track.push(k as f64, k as i64, row.iter().copied());
+            }
+            for (k, row) in rows.iter().enumerate() {
+                proptest::prop_assert_eq!(shown_at(&track, k as f64), Some(row.as_slice()));
+            }
+            let runs = 1 + rows.windows(2).filter(|w| w[0] != w[1]).count();
+            proptest::prop_assert!(track.rows() <= 2 * runs);
+            proptest::prop_assert_eq!(track.times.last(), Some(&((rows.len() - 1) as f64)));
+        }
     }
 }

@@ -16,24 +16,50 @@ pub(super) const MAX_ARROW_ROBOT_SIZES: f64 = 3.0;
 /// How long an event's marker stays in the robot view, s of simulation time (the event
 /// log keeps every event).
 pub(super) const EVENT_MARKER_HOLD_S: f64 = 0.1;
-/// Points per logged piece of the centre-of-mass trail (`world/com/trail/<n>`): only the
+/// Points per logged piece of the centre-of-mass trail (`world/trail/<n>`): only the
 /// growing piece is logged again, so the trail costs little however long the run.
 pub(super) const TRAIL_PIECE_POINTS: usize = 100;
+/// Spacing of the trail's points, in robot sizes: a point is added when the centre of mass
+/// moved that far from the last one (a hop is many robot sizes long; the trail's end is
+/// closer to the robot than its centre-of-mass marker is wide).
+const TRAIL_SPACING_ROBOT_SIZES: f64 = 0.05;
 /// Colour of the contact-force arrows.
 pub(super) const FORCE_COLOR: [u8; 3] = [214, 39, 40];
 /// The prismatic links: from each joint's anchor on the parent to the child's joint point.
 pub(super) const LINK_ENTITY: &str = "world/joints";
 pub(super) const LINK_COLOR: [u8; 3] = [60, 60, 60];
 
-/// Entity of the contact-force arrows.
-pub(super) const FORCE_ENTITY: &str = "world/contacts/force";
+/// Entity of the contacts: their impulses (a time series) and force arrows.
+pub(super) const CONTACTS_ENTITY: &str = "world/contacts";
+/// Entity of the arrows of contacts whose friction is indeterminate (docs/physics.md
+/// §4.8): their normal force only, labelled so.
+pub(super) const NORMAL_FORCE_ENTITY: &str = "world/contacts/normal_force";
+const NORMAL_FORCE_COLOR: [u8; 3] = [148, 103, 189];
+const NORMAL_FORCE_LABEL: &str = "normal force only (friction indeterminate)";
+/// The robot's centre of mass: a frame there with the world's axes (a translation per
+/// frame) and a marker at its origin.
+pub(super) const COM_ENTITY: &str = "world/com";
+/// The frame of the robot view: the centre of mass, mirrored as `world` so that y points
+/// up in the view centred on it. A static transform of its own: the viewer takes an
+/// entity's transform from its latest row, so a mirror logged once beside the centre of
+/// mass's per-frame translation would be lost.
+pub(super) const ROBOT_VIEW_ENTITY: &str = "world/com/view";
+/// The bodies, `<this>/<body>`, each placed relative to the robot's centre of mass: a body
+/// that moves with it (Robbit's disc and flywheel) keeps a constant translation, which the
+/// recording stores almost for free.
+pub(super) const BODIES_ENTITY: &str = "world/com/bodies";
+/// The centre-of-mass trail, in pieces `world/trail/<n>`.
+pub(super) const TRAIL_ENTITY: &str = "world/trail";
 
 impl RerunRecorder {
     /// The y-up transform, the names and colours of the plotted series, and what of each
     /// body never changes: its centre of mass and spoke (body frame).
     pub(super) fn log_static_entities(&mut self) -> Result<(), RecordError> {
-        // Rerun's 2D views draw y downwards; mirror so that y (docs/physics.md §1) points up.
-        self.log_static("world", &Transform3D::from_scale([1.0_f32, -1.0, 1.0]))?;
+        // Rerun's 2D views draw y downwards; mirror so that y (docs/physics.md §1) points up,
+        // in the views of the world and of the centre of mass.
+        let mirror = Transform3D::update_fields().with_scale([1.0_f32, -1.0, 1.0]);
+        self.log_static("world", &mirror)?;
+        self.log_static(ROBOT_VIEW_ENTITY, &mirror)?;
         for series in &self.columns.series {
             let colors = (0..series.names.len()).map(|i| rgb(palette(series.first_color + i)));
             self.log_static(
@@ -46,8 +72,8 @@ impl RerunRecorder {
         // Appearance of the per-frame columns (static: applies at every time).
         let marker = self.drawing.marker_radius();
         self.log_static(
-            "world/com",
-            &Points2D::update_fields()
+            COM_ENTITY,
+            &Points2D::new([[0.0_f32, 0.0]])
                 .with_radii([1.5 * marker])
                 .with_colors([Color::from_rgb(0, 0, 0)]),
         )?;
@@ -81,8 +107,14 @@ impl RerunRecorder {
         }
         if !self.drawing.contacts_empty {
             self.log_static(
-                FORCE_ENTITY,
+                CONTACTS_ENTITY,
                 &Arrows2D::update_fields().with_colors([rgb(FORCE_COLOR)]),
+            )?;
+            self.log_static(
+                NORMAL_FORCE_ENTITY,
+                &Arrows2D::update_fields()
+                    .with_colors([rgb(NORMAL_FORCE_COLOR)])
+                    .with_labels([NORMAL_FORCE_LABEL]),
             )?;
         }
         for (b, body) in self.drawing.bodies.iter().enumerate() {
@@ -221,7 +253,7 @@ pub(super) struct Drawing {
 }
 
 pub(super) struct BodyDrawing {
-    /// `world/bodies/<name>`: the body's frame.
+    /// `world/com/bodies/<name>`: the body's frame.
     pub(super) entity: String,
     pub(super) outlines: Vec<Outline>,
     /// Length of the body-fixed spoke, m.
@@ -237,7 +269,7 @@ impl Drawing {
             .zip(shapes.outlines)
             .zip(shapes.spokes_m)
             .map(|((b, outlines), spoke_m)| BodyDrawing {
-                entity: format!("world/bodies/{}", entity_part(&b.name)),
+                entity: format!("{BODIES_ENTITY}/{}", entity_part(&b.name)),
                 outlines,
                 spoke_m,
             })
@@ -263,6 +295,22 @@ impl Drawing {
             trail_piece: 0,
             last_com: None,
             markers: Vec::new(),
+        }
+    }
+
+    /// How far the robot reaches from its centre of mass at `frame`, m: the largest
+    /// distance of a body's centre of mass from it plus that body's reach.
+    pub(super) fn robot_extent(&self, frame: &Frame<'_>) -> f64 {
+        let [cx, cy] = frame.com;
+        let reach = self.bodies.iter().zip(frame.bodies).map(|(body, pose)| {
+            let [x, y] = pose.position;
+            (x - cx).hypot(y - cy) + body.spoke_m
+        });
+        let extent = reach.fold(0.0, f64::max);
+        if extent.is_finite() && extent > 0.0 {
+            extent
+        } else {
+            self.robot_size_m
         }
     }
 
@@ -296,7 +344,7 @@ impl Drawing {
     pub(super) fn extend_trail(&mut self, com: Point) -> bool {
         let p = f32_point(com);
         self.last_com = Some(p);
-        let spacing = (0.02 * self.robot_size_m) as f32;
+        let spacing = (TRAIL_SPACING_ROBOT_SIZES * self.robot_size_m) as f32;
         let moved = self
             .trail
             .last()
@@ -339,5 +387,53 @@ pub(super) fn event_color(kind: &EventKind) -> Color {
         EventKind::JointLimit { .. } => Color::from_rgb(23, 190, 207),
         EventKind::EnergyCreated { .. } => Color::from_rgb(227, 119, 194),
         EventKind::IndeterminateFriction { .. } => Color::from_rgb(188, 189, 34),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::empty_info;
+    use super::*;
+
+    /// The trail of a centre of mass moving along a parabola: its points are at least the
+    /// spacing apart (the robot moves less between two of them than the marker is wide),
+    /// each piece holds at most `TRAIL_PIECE_POINTS` and starts where the one before ended,
+    /// and the pieces together pass within one spacing of every position.
+    #[test]
+    fn the_trail_follows_the_centre_of_mass_in_pieces() {
+        let mut drawing = Drawing::new(&empty_info());
+        let spacing = TRAIL_SPACING_ROBOT_SIZES * drawing.robot_size_m;
+        // The centre-of-mass marker has radius 1.5 marker radii.
+        let marker_width = 3.0 * f64::from(drawing.marker_radius());
+        assert!(
+            spacing < marker_width,
+            "{spacing} m, marker {marker_width} m"
+        );
+        let mut pieces: Vec<Vec<[f32; 2]>> = vec![];
+        let path = |k: usize| {
+            let x = 0.002 * k as f64;
+            [x, 0.5 - (x - 1.0).powi(2)]
+        };
+        for k in 0..3000 {
+            if drawing.extend_trail(path(k)) {
+                pieces.truncate(drawing.trail_piece);
+                pieces.push(drawing.trail.clone());
+            }
+            let end = drawing.trail[drawing.trail.len() - 1];
+            let [x, y] = path(k);
+            let lag = (x - f64::from(end[0])).hypot(y - f64::from(end[1]));
+            assert!(lag < spacing + 1e-6, "frame {k}: {lag} m behind");
+        }
+        assert!(pieces.len() > 2, "{} pieces", pieces.len());
+        for (a, b) in pieces.iter().zip(&pieces[1..]) {
+            assert_eq!(a.len(), TRAIL_PIECE_POINTS);
+            assert_eq!(a.last(), b.first());
+        }
+        for piece in &pieces {
+            for w in piece.windows(2) {
+                let d = f64::from(w[1][0] - w[0][0]).hypot(f64::from(w[1][1] - w[0][1]));
+                assert!(d >= spacing * (1.0 - 1e-6), "{d} < {spacing}");
+            }
+        }
     }
 }

@@ -18,12 +18,15 @@ mod live;
 use crate::frame::FrameLayout;
 use crate::{Event, Frame, RecordError, Recorder, RecordingInfo, Stop};
 use columns::{Columns, CHUNK_FRAMES};
-use drawing::{event_color, Drawing, EVENT_MARKER_HOLD_S};
+use drawing::{event_color, Drawing, EVENT_MARKER_HOLD_S, TRAIL_ENTITY};
 use hopsim_io::AtomicPath;
-use layout::builder;
+use layout::{send_layout, APPLICATION_ID};
 pub use live::Pace;
 use live::{Live, LIVE_FLUSH_INTERVAL};
-use rerun::{AsComponents, Color, LineStrips2D, Points2D, RecordingStream, TextDocument, TextLog};
+use rerun::{
+    AsComponents, Color, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder,
+    TextDocument, TextLog,
+};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -45,6 +48,8 @@ pub struct RerunRecorder {
     layout: FrameLayout,
     /// Live stream: pacing and when the columns were last sent.
     live: Option<Live>,
+    /// The layout was sent (at the first frame, which sizes the robot view).
+    layout_sent: bool,
     /// Where errors point: the `.rrd` path or "Rerun viewer".
     target: PathBuf,
 }
@@ -54,7 +59,7 @@ impl RerunRecorder {
     /// place by `finish`.
     pub fn save(path: &Path, info: &RecordingInfo) -> Result<Self, RecordError> {
         let output = AtomicPath::create(path)?;
-        let stream = builder(info)
+        let stream = stream_builder(info)
             .save(output.temporary())
             .map_err(|e| RecordError::format(path, e))?;
         Self::start(stream, Some(output), None, path.to_path_buf(), info)
@@ -69,7 +74,7 @@ impl RerunRecorder {
             &options.executable_name,
             std::env::var_os("PATH").as_deref(),
         )?;
-        let stream = builder(info).spawn_opts(&options).map_err(|e| {
+        let stream = stream_builder(info).spawn_opts(&options).map_err(|e| {
             RecordError::Viewer(format!(
                 "could not start the Rerun viewer: {e} (the matching viewer is installed with \
                  `{RERUN_VIEWER_INSTALL}`)"
@@ -96,6 +101,9 @@ impl RerunRecorder {
         target: PathBuf,
         info: &RecordingInfo,
     ) -> Result<Self, RecordError> {
+        // Simulation time and step are the recording's timelines; the wall-clock time at
+        // which a row was logged means nothing to a reader and would cost a column.
+        stream.set_log_time_enabled(false);
         let mut recorder = Self {
             stream,
             output,
@@ -103,6 +111,7 @@ impl RerunRecorder {
             columns: Columns::new(info),
             layout: FrameLayout::of(info),
             live,
+            layout_sent: false,
             target,
         };
         recorder.log_static_entities()?;
@@ -122,6 +131,13 @@ impl RerunRecorder {
             .log_static(entity, what)
             .map_err(|e| self.error(e))
     }
+}
+
+/// A stream of the hopsim application named after the scene.
+fn stream_builder(info: &RecordingInfo) -> RecordingStreamBuilder {
+    RecordingStreamBuilder::new(APPLICATION_ID)
+        .recording_name(info.scene.clone())
+        .enabled(true)
 }
 
 impl RerunRecorder {
@@ -164,6 +180,11 @@ impl Recorder for RerunRecorder {
             live.wait_for(frame.t);
         }
         self.set_time(frame.t, frame.step);
+        if !self.layout_sent {
+            let extent = self.drawing.robot_extent(frame);
+            send_layout(&self.stream, &self.columns.series, extent).map_err(|e| self.error(e))?;
+            self.layout_sent = true;
+        }
         if self.drawing.terrain.cover(frame.com[0]) {
             self.log_terrain()?;
         }
@@ -173,7 +194,7 @@ impl Recorder for RerunRecorder {
             let trail = LineStrips2D::new([self.drawing.trail.iter().copied()])
                 .with_colors([Color::from_rgb(160, 160, 160)]);
             let piece = self.drawing.trail_piece;
-            self.log(&format!("world/com/trail/{piece}"), &trail)?;
+            self.log(&format!("{TRAIL_ENTITY}/{piece}"), &trail)?;
         }
         self.columns.push(frame, &self.drawing);
         let due = match &mut self.live {
