@@ -64,11 +64,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         Ok(scene) => scene,
         Err(code) => return Ok(code),
     };
-    if let Err(message) = check_output_paths(&args, &scene.path) {
-        eprintln!("error: {message}");
-        return Ok(ExitCode::from(exit::INVALID_INPUT));
-    }
+    let extension_warnings = match check_output_paths(&args, &scene.path) {
+        Ok(warnings) => warnings,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return Ok(ExitCode::from(exit::INVALID_INPUT));
+        }
+    };
     if !args.quiet {
+        for warning in extension_warnings {
+            eprintln!("warning: {warning}");
+        }
         for warning in hopsim_scene::warnings(&scene) {
             eprintln!("warning: {}: {warning}", scene.path.display());
         }
@@ -156,9 +162,19 @@ fn report_partial_outputs(observer: RecordingObserver, err: &RunError, summary: 
     }
 }
 
+/// The extension of each output's format.
+const OUTPUT_EXTENSIONS: [(&str, &str); 4] = [
+    ("--mcap", "mcap"),
+    ("--rrd", "rrd"),
+    ("--csv", "csv"),
+    ("--summary", "json"),
+];
+
 /// Output files must differ from each other and from the scene file: a summary written
-/// over the scene, or a CSV over the MCAP, would silently lose one of them.
-fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<(), String> {
+/// over the scene, or a CSV over the MCAP, would silently lose one of them. A path ending
+/// in another output's extension (`--rrd out.mcap`) is refused: the file would not be what
+/// its name says. Returns a warning for each path with an extension of no output format.
+fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<Vec<String>, String> {
     let mut outputs: Vec<(&str, PathBuf)> = Vec::new();
     let flags = [
         ("--mcap", &args.mcap),
@@ -192,5 +208,32 @@ fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    let mut warnings = Vec::new();
+    for (flag, path) in outputs {
+        let Some(&(_, expected)) = OUTPUT_EXTENSIONS.iter().find(|(f, _)| *f == flag) else {
+            continue;
+        };
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let extension = extension.to_ascii_lowercase();
+        if extension == expected {
+            continue;
+        }
+        let other = OUTPUT_EXTENSIONS.iter().find(|(_, e)| *e == extension);
+        match other {
+            Some((other_flag, _)) => {
+                return Err(format!(
+                    "{flag} {}: a .{extension} name is for {other_flag}; {flag} writes a \
+                     .{expected} file (e.g. {flag} {})",
+                    path.display(),
+                    path.with_extension(expected).display()
+                ))
+            }
+            None => warnings.push(format!(
+                "{flag} {}: {flag} writes a .{expected} file, and this name does not end in \
+                 .{expected}",
+                path.display()
+            )),
+        }
+    }
+    Ok(warnings)
 }
