@@ -30,6 +30,8 @@ enum Command {
     Analyze(cmd::analyze::AnalyzeArgs),
     /// Compare two recordings' contact-impulse traces; non-zero exit where they differ.
     Compare(cmd::compare::CompareArgs),
+    /// Write a MuJoCo model (MJCF, .xml) of a planar mechanism as the equivalent scene file.
+    Import(cmd::import::ImportArgs),
 }
 
 fn main() -> ExitCode {
@@ -47,12 +49,13 @@ fn main() -> ExitCode {
         Command::Lcp(args) => cmd::lcp::run(args),
         Command::Analyze(args) => cmd::analyze::run(args),
         Command::Compare(args) => cmd::compare::run(args),
+        Command::Import(args) => cmd::import::run(args),
     });
     match result {
         Ok(Ok(code)) => code,
         Ok(Err(err)) => {
             eprintln!("error: {}", error_chain(&err));
-            ExitCode::FAILURE
+            ExitCode::from(cmd::exit::of_error(&err))
         }
         Err(payload) => {
             eprintln!(

@@ -7,6 +7,9 @@ wraps the Rust crates of hopsim (it re-implements nothing): the numbers are thos
 
 * :class:`Scene`: a validated scene file (``Scene.load``, ``Scene.from_toml``); errors are
   :class:`SceneError` with ``file``, ``line``, ``column`` and ``key``.
+* :class:`Model`: a model built in code with the scene format's keys (``body``, ``shape``,
+  ``controller``, …), validated as a file; ``Model.scene()`` makes its :class:`Scene`, and
+  ``Scene.model`` the model of a scene.
 * :class:`Simulation`: ``step()``, the state as numpy arrays, ``contacts()``, per-step
   :class:`Actuation` from a controller written in Python, ``run()`` returning a
   :class:`Trajectory` with the run summary of ``hopsim run --summary``.
@@ -43,6 +46,7 @@ from ._hopsim import (
     SceneError,
     SimulationError,
 )
+from ._model import Model
 from ._sweep import SweepTable, sweep
 from ._trajectory import Recording, Trajectory
 
@@ -52,6 +56,7 @@ __all__ = [
     "Actuation",
     "HopsimError",
     "InternalError",
+    "Model",
     "Recording",
     "Scene",
     "SceneError",

@@ -6,6 +6,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+import hopsim._model
+
 __version__: str
 
 _Path = Union[str, "os.PathLike[str]"]
@@ -71,6 +73,8 @@ class Scene:
     def duration(self) -> float: ...
     @property
     def controller(self) -> Dict[str, Any]: ...
+    @property
+    def model(self) -> "hopsim._model.Model": ...
     @property
     def initial_q(self) -> npt.NDArray[np.float64]: ...
     @property

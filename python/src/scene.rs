@@ -43,6 +43,7 @@ pub fn scene_error(py: Python<'_>, error: &hopsim_scene::SceneError) -> PyErr {
         hopsim_scene::SceneError::Syntax { message, .. }
         | hopsim_scene::SceneError::Invalid { message, .. }
         | hopsim_scene::SceneError::Override { message, .. } => message.clone(),
+        hopsim_scene::SceneError::Import(message) => message.clone(),
     };
     let value = err.value(py);
     // Setting an attribute on a fresh exception instance does not fail.
@@ -89,6 +90,31 @@ fn toml_value(key: &str, value: &Bound<'_, PyAny>, nested: bool) -> PyResult<Str
     )))
 }
 
+/// A TOML value as Python's: tables as dicts, arrays as lists, date-times as their text.
+fn python_value<'py>(py: Python<'py>, value: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match value {
+        toml::Value::String(s) => s.into_pyobject(py)?.into_any(),
+        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any(),
+        toml::Value::Float(f) => f.into_pyobject(py)?.into_any(),
+        toml::Value::Boolean(b) => PyBool::new(py, *b).to_owned().into_any(),
+        toml::Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
+        toml::Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(python_value(py, item)?)?;
+            }
+            list.into_any()
+        }
+        toml::Value::Table(table) => {
+            let dict = PyDict::new(py);
+            for (key, item) in table {
+                dict.set_item(key, python_value(py, item)?)?;
+            }
+            dict.into_any()
+        }
+    })
+}
+
 /// `{key: value}` as scene overrides (`key` a dotted path such as `controller.torque`).
 pub fn overrides_from(dict: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<Override>> {
     let Some(dict) = dict else {
@@ -129,7 +155,9 @@ impl PyScene {
 #[pymethods]
 impl PyScene {
     /// Reads the scene file at `path` with `overrides` (`{"controller.torque": 0.2}`)
-    /// applied. Raises `SceneError` (with file, line, column and key) when it is invalid.
+    /// applied; a MuJoCo model (`.xml`) is imported as its scene, its coordinates MuJoCo's
+    /// `qpos` (docs/mjcf.md). Raises `SceneError` (with file, line, column and key) when it
+    /// is invalid.
     #[staticmethod]
     #[pyo3(signature = (path, overrides = None))]
     fn load(
@@ -230,6 +258,13 @@ impl PyScene {
             d.set_item(&o.key, &o.value)?;
         }
         Ok(d)
+    }
+
+    /// What the scene's source leaves out or expresses otherwise (an imported MuJoCo
+    /// model's unmodelled parts), one sentence each.
+    #[getter]
+    fn notices(&self) -> Vec<String> {
+        self.scene.notices.clone()
     }
 
     /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
@@ -354,6 +389,21 @@ impl PyScene {
             }
         }
         Ok(d)
+    }
+
+    /// This scene as a `hopsim.Model` (a new one at each access): its document with its
+    /// overrides applied, and its title; change it in code and build it with
+    /// `Model.scene()`.
+    #[getter]
+    fn model<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let s = &self.scene;
+        let document = guard(py, "Scene.model", || {
+            hopsim_scene::document(&s.text, &s.path, &s.overrides).map_err(|e| scene_error(py, &e))
+        })?;
+        let document = python_value(py, &toml::Value::Table(document))?;
+        py.import("hopsim._model")?
+            .getattr("Model")?
+            .call_method1("_from_document", (document, &s.title))
     }
 
     /// Initial generalised coordinates `q` (a new array).

@@ -12,7 +12,8 @@ use hopsim_record::{
 use hopsim_scene::{check_steps, Scene, StateProblem};
 use hopsim_sim::{recording_info, Observer, RecordingObserver, RunError, Simulation};
 use hopsim_step::{
-    Actuation, ContactRecord, ImpulseCommand, JointForceCommand, State, TorqueCommand,
+    Actuation, ActuationError, ContactRecord, ImpulseCommand, JointForceCommand, State,
+    TorqueCommand,
 };
 use hopsim_studies::run_summary::run_simulation;
 use nalgebra::DVector;
@@ -165,68 +166,20 @@ impl PyActuation {
 }
 
 impl PyActuation {
-    /// Refuses commands that name a body or shape the scene does not have.
+    /// Refuses commands the model cannot carry out (`Actuation::validate`,
+    /// `ControlEvent::validate`): an index out of range is an `IndexError`, anything else a
+    /// `ValueError`.
     fn check(&self, scene: &Scene) -> PyResult<()> {
-        let (bodies, shapes) = (scene.model.bodies().len(), scene.model.shapes().len());
-        let body = |b: usize| -> PyResult<()> {
-            if b < bodies {
-                Ok(())
-            } else {
-                Err(PyIndexError::new_err(format!(
-                    "actuation names body {b}; the scene has {bodies} bodies (0 to {})",
-                    bodies - 1
-                )))
-            }
-        };
-        let a = &self.actuation;
-        for t in &a.torques {
-            body(t.body)?;
-            t.reaction.map_or(Ok(()), body)?;
-        }
-        for i in &a.impulses {
-            match *i {
-                ImpulseCommand::Point { body: b, .. } => body(b)?,
-                ImpulseCommand::Rotational {
-                    body: b, reaction, ..
-                } => {
-                    body(b)?;
-                    reaction.map_or(Ok(()), body)?;
+        let model = &scene.model;
+        self.actuation
+            .validate(model)
+            .and_then(|()| self.events.iter().try_for_each(|e| e.validate(model)))
+            .map_err(|e| match e {
+                ActuationError::NoSuchBody { .. } | ActuationError::NoSuchShape { .. } => {
+                    PyIndexError::new_err(e.to_string())
                 }
-            }
-        }
-        for f in &a.joint_forces {
-            body(f.body)?;
-            if scene.model.bodies()[f.body].joint.is_none() {
-                return Err(PyValueError::new_err(format!(
-                    "joint_force names body {}, which has no joint",
-                    f.body
-                )));
-            }
-        }
-        for &(b, o) in &a.locks {
-            body(b)?;
-            body(o)?;
-            if b == o {
-                return Err(PyValueError::new_err(format!(
-                    "a lock needs two bodies; both are {b}"
-                )));
-            }
-        }
-        for e in &self.events {
-            match *e {
-                ControlEvent::Brake { body: b, other } => {
-                    body(b)?;
-                    body(other)?;
-                }
-                ControlEvent::ShapeSwitch { shape, .. } if shape >= shapes => {
-                    return Err(PyIndexError::new_err(format!(
-                        "actuation switches shape {shape}; the scene has {shapes} shapes"
-                    )))
-                }
-                ControlEvent::ShapeSwitch { .. } => {}
-            }
-        }
-        Ok(())
+                _ => PyValueError::new_err(e.to_string()),
+            })
     }
 }
 
@@ -238,17 +191,17 @@ pub struct PySimulation {
     /// `Simulation` holds the scene's controller, which is `Send` but not `Sync`; the
     /// mutex makes the class shareable between threads (methods taking `&mut self` reach
     /// it without locking).
-    sim: Mutex<Simulation<'static>>,
+    sim: Mutex<Simulation>,
     scene: Arc<Scene>,
     py_scene: Py<PyScene>,
 }
 
 impl PySimulation {
-    fn sim(&mut self) -> &mut Simulation<'static> {
+    fn sim(&mut self) -> &mut Simulation {
         self.sim.get_mut().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn shared(&self) -> MutexGuard<'_, Simulation<'static>> {
+    fn shared(&self) -> MutexGuard<'_, Simulation> {
         self.sim.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
@@ -338,7 +291,7 @@ impl PySimulation {
     #[new]
     fn new(py: Python<'_>, scene: Bound<'_, PyScene>) -> PyResult<Self> {
         let shared = scene.get().scene.clone();
-        let sim = guard(py, "Simulation", || Ok(Simulation::shared(shared.clone())))?;
+        let sim = guard(py, "Simulation", || Ok(Simulation::new(&shared)))?;
         Ok(Self {
             sim: Mutex::new(sim),
             scene: shared,

@@ -4,8 +4,8 @@
 use crate::errors::guard;
 use crate::scene::{overrides_from, scene_error, PyScene};
 use crate::signals::wait_for;
-use hopsim_sim::GridAxis;
 use hopsim_studies::progress::Silent;
+use hopsim_studies::sweep::GridAxis;
 use hopsim_studies::sweep::{Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;

@@ -121,3 +121,45 @@ def test_scene_pickles_with_its_overrides(robbit):
     assert back.text == s.text and back.path == s.path
     assert back.controller == s.controller
     assert back.overrides == s.overrides
+
+
+PENDULUM_XML = """\
+<mujoco model="pendulum">
+  <worldbody>
+    <body name="pole" pos="0 0 1">
+      <joint name="swing" type="hinge" axis="0 1 0" ref="30"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="2"/>
+    </body>
+  </worldbody>
+  <actuator><motor joint="swing"/></actuator>
+</mujoco>
+"""
+
+
+def test_load_imports_a_mujoco_model(tmp_path):
+    path = tmp_path / "pendulum.xml"
+    path.write_text(PENDULUM_XML)
+    scene = hopsim.Scene.load(str(path), overrides={"simulation.duration": 0.2})
+    assert scene.title == "pendulum"
+    assert scene.path == str(path)
+    # MuJoCo's qpos, named by the joint, in radians with its ref.
+    assert scene.coordinates == ["swing"]
+    np.testing.assert_allclose(scene.initial_q, [np.radians(30.0)], rtol=0, atol=1e-15)
+    assert [b["name"] for b in scene.bodies] == ["world", "pole"]
+    assert any("actuator (unnamed) on joint `swing` is not modelled" in n for n in scene.notices)
+    assert scene.duration == 0.2
+    # Released at its ref it hangs still: gravity has no torque there.
+    sim = hopsim.Simulation(scene)
+    sim.step(10)
+    np.testing.assert_allclose(sim.q, [np.radians(30.0)], rtol=0, atol=1e-12)
+    # And as any scene it is picklable, with its notices.
+    again = pickle.loads(pickle.dumps(scene))
+    assert again.notices == scene.notices
+
+
+def test_a_model_outside_the_subset_is_a_located_scene_error(tmp_path):
+    path = tmp_path / "free.xml"
+    path.write_text(PENDULUM_XML.replace('type="hinge" axis="0 1 0"', 'type="free"'))
+    with pytest.raises(hopsim.SceneError) as info:
+        hopsim.Scene.load(str(path))
+    assert f"{path}:4:" in str(info.value)

@@ -3,6 +3,7 @@
 pub mod analyze;
 pub mod compare;
 pub mod exit;
+pub mod import;
 pub mod interrupt;
 pub mod lcp;
 pub mod progress;

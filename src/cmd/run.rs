@@ -60,20 +60,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     if args.strict {
         extra.push(Override::from_flag("--strict", "simulation.strict", "true"));
     }
-    let scene = match args.scene.load(&extra) {
-        Ok(scene) => scene,
-        Err(code) => return Ok(code),
-    };
+    let scene = args.scene.load(&extra)?;
     let extension_warnings = match check_output_paths(&args, &scene.path) {
         Ok(warnings) => warnings,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return Ok(ExitCode::from(exit::INVALID_INPUT));
-        }
+        Err(message) => return exit::invalid(message),
     };
     if !args.quiet {
         for warning in extension_warnings {
             eprintln!("warning: {warning}");
+        }
+        for notice in &scene.notices {
+            eprintln!("notice: {notice}");
         }
         for warning in hopsim_scene::warnings(&scene) {
             eprintln!("warning: {}: {warning}", scene.path.display());

@@ -6,12 +6,11 @@ use hopsim_scene::{Override, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use super::exit;
-
 /// A scene file with `--set` overrides.
 #[derive(Args, Clone)]
 pub struct SceneArgs {
-    /// The scene file (TOML), e.g. scenes/robbit.toml (format: docs/scene-format.md).
+    /// The scene file (TOML), e.g. scenes/robbit.toml (format: docs/scene-format.md), or a
+    /// MuJoCo model (.xml), imported as its scene (docs/mjcf.md).
     pub scene: PathBuf,
     /// Override any scene value (a number, string, bool or array), e.g. --set controller.torque=0.2 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -19,15 +18,12 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
-    /// Loads the scene with the `--set` overrides and then `extra`; an invalid scene is
-    /// reported on stderr and becomes exit code 2.
-    pub fn load(&self, extra: &[Override]) -> Result<Scene, ExitCode> {
+    /// Loads the scene with the `--set` overrides and then `extra`; an invalid scene is a
+    /// [`hopsim_scene::SceneError`] (exit code 2).
+    pub fn load(&self, extra: &[Override]) -> anyhow::Result<Scene> {
         let mut overrides = self.overrides.clone();
         overrides.extend_from_slice(extra);
-        hopsim_scene::load(&self.scene, &overrides).map_err(|err| {
-            eprintln!("error: {err}");
-            ExitCode::from(exit::INVALID_INPUT)
-        })
+        Ok(hopsim_scene::load(&self.scene, &overrides)?)
     }
 }
 
@@ -70,12 +66,12 @@ pub enum SceneCommand {
 
 pub fn run(args: SceneCommandArgs) -> anyhow::Result<ExitCode> {
     let SceneCommand::Check(args) = args.command;
-    let scene = match args.load(&[]) {
-        Ok(scene) => scene,
-        Err(code) => return Ok(code),
-    };
+    let scene = args.load(&[])?;
     println!("{}: ok", args.scene.display());
     print!("{}", describe(&scene));
+    for notice in &scene.notices {
+        println!("notice: {notice}");
+    }
     for warning in hopsim_scene::warnings(&scene) {
         println!("warning: {warning}");
     }

@@ -4,7 +4,7 @@
 
 use clap::Args;
 use hopsim_scene::Override;
-use hopsim_sim::GridAxis;
+use hopsim_studies::sweep::GridAxis;
 use hopsim_studies::sweep::{
     metric_name, Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS,
 };
@@ -68,10 +68,7 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
         .into_iter()
         .collect();
     // Validate the base scene once, so a broken file fails before hundreds of runs do.
-    let scene = match args.scene.load(&extra) {
-        Ok(scene) => scene,
-        Err(code) => return Ok(code),
-    };
+    let scene = args.scene.load(&extra)?;
     let mut base = args.scene.overrides.clone();
     base.extend(extra);
     let sweep = match Sweep::new(&scene, &base, SweepParams::from(&args)) {

@@ -10,7 +10,7 @@ pub use momentum_impulse::MomentumImpulse;
 pub use pulse::Pulse;
 
 use hopsim_model::{Kinematics, Model};
-use hopsim_step::{Actuation, State};
+use hopsim_step::{check_lock, Actuation, ActuationError, State};
 
 /// What a controller sees before a step.
 pub struct ControlInput<'a> {
@@ -36,6 +36,28 @@ pub enum ControlEvent {
     Brake { body: usize, other: usize },
     /// Shape `shape` is switched on (`true`) or off.
     ShapeSwitch { shape: usize, active: bool },
+}
+
+impl ControlEvent {
+    /// Checks the event against `model`: its bodies and shape exist, a brake joins two
+    /// bodies.
+    pub fn validate(&self, model: &hopsim_model::Model) -> Result<(), ActuationError> {
+        match *self {
+            ControlEvent::Brake { body, other } => check_lock(model, "brake", body, other),
+            ControlEvent::ShapeSwitch { shape, .. } => {
+                let shapes = model.shapes().len();
+                if shape < shapes {
+                    Ok(())
+                } else {
+                    Err(ActuationError::NoSuchShape {
+                        command: "switch_shape",
+                        shape,
+                        shapes,
+                    })
+                }
+            }
+        }
+    }
 }
 
 /// A controller: called once before every step.

@@ -79,7 +79,7 @@ fn main() {
             {
                 // The scene as run (lifted where its start overlapped).
                 let text = match hopsim_gen::scene_of(&m) {
-                    Ok(Ok(scene)) => scene.text,
+                    Ok(Ok(scene)) => scene.setup.text,
                     _ => m.to_toml(),
                 };
                 let _ = std::fs::write(out.join(format!("case-{case}.toml")), text);

@@ -55,7 +55,7 @@ pub struct BodyGene {
 pub struct ShapeGene {
     /// Which body (scaled to the body count).
     pub body: f64,
-    /// circle, arc, ellipse, point, polygon, box (scaled to six kinds).
+    /// circle, arc, ellipse, point, polygon, box, capsule (scaled to seven kinds).
     pub kind: f64,
     /// Six unit numbers for the geometry (see `Mechanism::from_genes`).
     pub p: [f64; 6],

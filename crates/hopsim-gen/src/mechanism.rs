@@ -49,7 +49,7 @@ pub struct Body {
 #[derive(Clone, Debug)]
 pub struct Shape {
     pub body: usize,
-    /// `circle`, `arc`, `ellipse`, `point`, `polygon` or `box`.
+    /// `circle`, `arc`, `ellipse`, `point`, `polygon`, `box` or `capsule`.
     pub kind: &'static str,
     pub keys: String,
     pub switchable: bool,
@@ -406,8 +406,8 @@ impl Mechanism {
             let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
             let exact = !matches!(
                 (sa.kind, sb.kind),
-                ("ellipse", "ellipse" | "polygon" | "box")
-                    | ("polygon" | "box", "ellipse")
+                ("ellipse", "ellipse" | "polygon" | "box" | "capsule")
+                    | ("polygon" | "box" | "capsule", "ellipse")
                     | ("point", "point")
             );
             let fixed = |s: &Shape| self.bodies[s.body].mount == Mount::Fixed;
@@ -569,8 +569,10 @@ fn shape(g: &ShapeGene, body: usize, bodies: &[Body]) -> Shape {
     let p = g.p;
     let center = pair(l * (p[0] - 0.5), l * (p[1] - 0.5));
     let r = |u: f64| lerp(u, 0.1, 1.0) * l;
-    let kinds = ["circle", "arc", "ellipse", "point", "polygon", "box"];
-    let kind = kinds[((g.kind * 6.0) as usize).min(5)];
+    let kinds = [
+        "circle", "arc", "ellipse", "point", "polygon", "box", "capsule",
+    ];
+    let kind = kinds[((g.kind * kinds.len() as f64) as usize).min(kinds.len() - 1)];
     let keys = match kind {
         "circle" => format!("center = {center}\nradius = {}", num(r(p[2]))),
         "arc" => {
@@ -605,6 +607,18 @@ fn shape(g: &ShapeGene, body: usize, bodies: &[Body]) -> Shape {
                 })
                 .collect();
             format!("vertices = [{}]", corners.join(", "))
+        }
+        "capsule" => {
+            // A segment through the centre at any angle.
+            let (half, turn) = (r(p[2]) * lerp(p[5], 0.2, 1.0), TAU * p[4]);
+            let (dx, dy) = (half * turn.cos(), half * turn.sin());
+            let (cx, cy) = (l * (p[0] - 0.5), l * (p[1] - 0.5));
+            format!(
+                "from = {}\nto = {}\nradius = {}",
+                pair(cx - dx, cy - dy),
+                pair(cx + dx, cy + dy),
+                num(0.5 * r(p[3]))
+            )
         }
         _ => format!(
             "center = {center}\nhalf_width = {}\nhalf_height = {}",

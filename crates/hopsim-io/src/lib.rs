@@ -20,6 +20,18 @@ pub use json::{to_json_string_pretty, to_json_value};
 
 use std::path::{Path, PathBuf};
 
+/// A number for messages: the shortest text that reads back as `v` (at most 17
+/// significant digits), in exponent form for very large or very small magnitudes, so
+/// `1e308` is not printed with 309 digits.
+pub fn number(v: f64) -> String {
+    let magnitude = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e16).contains(&magnitude) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// An I/O error on a named file.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {source}", path.display())]

@@ -166,8 +166,10 @@ fn a_certificate_holds_exactly_up_to_its_tolerance() {
         most_negative: -t,
         residual: t,
         tolerance: t,
+        matrix_norm: 2.0,
     };
     assert!(at.holds());
+    assert_eq!(at.z_tolerance(), t / 2.0);
     let above = t * (1.0 + f64::EPSILON);
     for bad in [
         Certificate {

@@ -2,6 +2,9 @@
 //! description ([`PlanarModel`]): bodies with their mass properties, hinge and slide joints
 //! numbered as MuJoCo's `qpos`, geoms as planar shapes, actuators and options.
 //!
+//! [`scene_toml`] writes a planar model as the equivalent hopsim scene (TOML text whose
+//! coordinates are MuJoCo's `qpos`), which `hopsim-scene` reads like any scene file.
+//!
 //! The plane is found from the joints, not assumed (docs/mjcf.md). Everything outside the
 //! supported subset is an error located at `file:line:column` naming the element and
 //! attribute; what is read without effect (visuals, solver settings, soft-contact
@@ -24,8 +27,10 @@ mod error;
 mod inertia;
 mod model;
 mod orient;
+mod overlap;
 mod planar;
 mod read;
+mod scene;
 mod tables;
 mod xml;
 
@@ -38,6 +43,7 @@ pub use model::{
 };
 pub use planar::PLANE_TOLERANCE;
 pub use read::MAX_ELEMENTS;
+pub use scene::{scene_toml, ImportError, SceneText, IMPORTED_DURATION};
 pub use xml::{MAX_FILE_BYTES, MAX_INCLUDE_DEPTH};
 
 /// How strictly to read.

@@ -10,6 +10,10 @@ pub enum JointCoordinate {
     Absolute,
     /// The coordinate is the angle relative to the parent (a joint angle, §5.4).
     Relative,
+    /// The coordinate is the angle relative to the parent measured clockwise: the child
+    /// turns by `−q` against its parent (MuJoCo's hinge whose axis points against the
+    /// plane's normal, docs/mjcf.md). Springs, limits and joint forces act on `q` itself.
+    Clockwise,
 }
 
 /// What a joint lets the child do relative to its parent (docs/physics.md §7).
@@ -63,6 +67,9 @@ pub struct Joint {
     pub rest_position: f64,
     /// End stops of the joint position, if any.
     pub limits: Option<JointLimits>,
+    /// Armature (rotor inertia reflected through a gear): kg m² or kg, added to the
+    /// mass matrix's diagonal at the joint's coordinate (MuJoCo's `armature`).
+    pub armature: f64,
 }
 
 impl Joint {
@@ -79,6 +86,7 @@ impl Joint {
             stiffness: 0.0,
             rest_position: 0.0,
             limits: None,
+            armature: 0.0,
         }
     }
 
@@ -93,9 +101,10 @@ impl Joint {
 pub struct Body {
     /// Name used in scenes, records and viewers.
     pub name: String,
-    /// Mass, kg (> 0; ≥ 0 for a fixed base).
+    /// Mass, kg (> 0; ≥ 0 for a fixed base or a body with children, a massless link).
     pub mass: f64,
-    /// Moment of inertia about the centre of mass, kg m² (> 0; ≥ 0 for a fixed base).
+    /// Moment of inertia about the centre of mass, kg m² (> 0; ≥ 0 for a fixed base or a
+    /// body with children).
     pub inertia: f64,
     /// `None` for a floating base `(x, y, φ)`, the joint for every other body.
     pub joint: Option<Joint>,

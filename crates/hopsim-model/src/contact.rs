@@ -1,6 +1,7 @@
 //! Contact kinematics: the gap `g_N` and the contact frame of every potential contact
 //! between a body's shape and a terrain feature (docs/physics.md §1, §2).
 
+use crate::capsule::capsule_signed_distance;
 use crate::ellipse::closest_point_on_ellipse;
 use crate::kinematics::Rotation;
 use crate::{Model, Shape, TerrainFeature, Vec2};
@@ -41,7 +42,8 @@ pub enum ShapeFeature {
     Smooth,
     /// The shape's `k`-th vertex (see [`Shape::vertex`]).
     Vertex(usize),
-    /// A convex polygon's edges, as one boundary, against a terrain corner.
+    /// A convex polygon's edges or a capsule's whole boundary, as one boundary, against a
+    /// terrain corner.
     Edges,
 }
 
@@ -83,8 +85,9 @@ impl ContactGeometry {
 /// point lies beyond the end of a line, outside a corner's normal cone, or off an arc).
 ///
 /// Closed forms where they exist: circles, arcs, ellipses and vertices against lines
-/// (support points), circles and arcs against corners, a corner against a convex
-/// polygon's edges (signed point-polygon distance). A corner against an ellipse uses the
+/// (support points; a capsule's vertices are its end caps), circles and arcs against
+/// corners, a corner against a convex polygon's edges (signed point-polygon distance) or a
+/// capsule (distance to its segment). A corner against an ellipse uses the
 /// closest point on the ellipse by Eberly's monotone root, exact to round-off (see
 /// `ellipse.rs`). A point behind a line is that line's only if [`owned_by_line`].
 #[inline]
@@ -217,9 +220,10 @@ fn feature_geometry(
 ) -> Option<ContactGeometry> {
     let to_world = |p: Vec2| position + rotation.apply(p);
     match (feature, terrain) {
-        (ShapeFeature::Vertex(k), TerrainFeature::Line { .. }) => {
-            let vertex = shape.vertex(k)?;
-            point_against_line(to_world(vertex), terrain)
+        (ShapeFeature::Vertex(k), TerrainFeature::Line { normal, .. }) => {
+            // A capsule's corner is the disc of its end cap: its lowest point touches.
+            let vertex = to_world(shape.vertex(k)?);
+            point_against_line(vertex - shape.vertex_radius() * normal, terrain)
         }
         (ShapeFeature::Vertex(_), TerrainFeature::Corner { .. }) => None,
         (ShapeFeature::Smooth, _) => smooth_geometry(shape, position, rotation, terrain),
@@ -231,11 +235,8 @@ fn feature_geometry(
                 normal_last,
             },
         ) => {
-            let Shape::Polygon { vertices } = shape else {
-                return None;
-            };
             let local = rotation.inverse(point - position);
-            let (gap, closest, outward) = polygon_signed_distance(vertices, local)?;
+            let (gap, closest, outward) = sided_signed_distance(shape, local)?;
             corner_contact(
                 gap,
                 to_world(closest),
@@ -331,6 +332,19 @@ fn smooth_geometry(
                 *normal_last,
             )
         }
+        _ => None,
+    }
+}
+
+/// Signed distance of the body-frame point `c` from a polygon or a capsule (`< 0`
+/// inside), the closest boundary point and the unit outward normal there; `None` for the
+/// other shapes and where the distance has no direction (see
+/// [`polygon_signed_distance`], [`capsule_signed_distance`]).
+#[inline]
+pub(crate) fn sided_signed_distance(shape: &Shape, c: Vec2) -> Option<(f64, Vec2, Vec2)> {
+    match shape {
+        Shape::Polygon { vertices } => polygon_signed_distance(vertices, c),
+        Shape::Capsule { from, to, radius } => capsule_signed_distance(*from, *to, *radius, c),
         _ => None,
     }
 }

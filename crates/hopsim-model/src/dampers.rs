@@ -4,7 +4,7 @@
 //! `C = Σ c w wᵀ` with the force `−C u` (docs/physics.md §4.9: taken at the step's mean velocity).
 
 use crate::forces::separation;
-use crate::{JointKind, Kinematics, Model};
+use crate::{JointCoordinate, JointKind, Kinematics, Model};
 
 /// One damper of a model at one evaluation of its kinematics.
 #[derive(Clone, Copy, Debug)]
@@ -36,7 +36,10 @@ impl Damper {
             Damper::Joint { body, .. } => {
                 let joint = model.bodies()[body].joint.as_ref().expect("a jointed body");
                 match (joint.kind, joint.parent) {
-                    (JointKind::Revolute, Some(p)) => {
+                    // The rate of a clockwise angle is the joint rate, `−(θ̇_child − θ̇_parent)`.
+                    (JointKind::Revolute, Some(p))
+                        if joint.coordinate != JointCoordinate::Clockwise =>
+                    {
                         kinematics.angular_velocity(body) - kinematics.angular_velocity(p)
                     }
                     _ => kinematics.joint_rate(body),

@@ -176,11 +176,14 @@ impl Kinematics {
                     let (angle, rate) = match joint.coordinate {
                         JointCoordinate::Absolute => (q[coord], u[coord]),
                         JointCoordinate::Relative => (p_angle + q[coord], wp + u[coord]),
+                        JointCoordinate::Clockwise => (p_angle - q[coord], wp - u[coord]),
                     };
                     let frame = &mut self.frames[b];
                     (frame.joint_position, frame.joint_rate) = match joint.coordinate {
                         JointCoordinate::Absolute => (q[coord] - p_angle, u[coord] - wp),
-                        JointCoordinate::Relative => (q[coord], u[coord]),
+                        JointCoordinate::Relative | JointCoordinate::Clockwise => {
+                            (q[coord], u[coord])
+                        }
                     };
                     if constants.needs_rotation {
                         frame.rotation = Rotation::new(angle);
@@ -221,6 +224,10 @@ impl Kinematics {
                         JointCoordinate::Relative => {
                             bt.copy_from_slice(pt);
                             bt[coord] += 1.0;
+                        }
+                        JointCoordinate::Clockwise => {
+                            bt.copy_from_slice(pt);
+                            bt[coord] -= 1.0;
                         }
                     }
                     let bt = &*bt;

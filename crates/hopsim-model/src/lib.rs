@@ -11,6 +11,7 @@
 //! evaluation to the next.
 
 mod body;
+mod capsule;
 mod contact;
 mod dampers;
 mod ellipse;

@@ -517,6 +517,10 @@ impl Model {
             return;
         };
         match joint.kind {
+            // A clockwise coordinate's force is a clockwise torque.
+            JointKind::Revolute if joint.coordinate == JointCoordinate::Clockwise => {
+                kinematics.add_torque_to(b, joint.parent, -value, out)
+            }
             JointKind::Revolute => kinematics.add_torque_to(b, joint.parent, value, out),
             JointKind::Prismatic { .. } => out[self.first_coordinate[b]] += value,
             JointKind::Fixed { .. } => {}
@@ -532,7 +536,8 @@ impl Model {
             .sum()
     }
 
-    /// Mass matrix `M = Σ_b J_bᵀ diag(m_b, m_b, I_b) J_b` (needs `kinematics.update` first).
+    /// Mass matrix `M = Σ_b J_bᵀ diag(m_b, m_b, I_b) J_b + diag(armature)` (needs
+    /// `kinematics.update` first).
     pub fn mass_matrix(&self, kinematics: &Kinematics, m: &mut DMatrix<f64>) {
         // M is symmetric, so its column-major storage equals the row-major one.
         self.mass_matrix_to(kinematics, m.as_mut_slice());
@@ -564,11 +569,23 @@ impl Model {
                 }
             }
         }
+        for (b, joint) in self.armatures() {
+            let i = self.first_coordinate[b];
+            m[i * n + i] += joint.armature;
+        }
         for i in 1..n {
             for j in 0..i {
                 m[i * n + j] = m[j * n + i];
             }
         }
+    }
+
+    /// The bodies whose joints have an armature, with their joints.
+    fn armatures(&self) -> impl Iterator<Item = (usize, &Joint)> {
+        self.bodies.iter().enumerate().filter_map(|(b, body)| {
+            let joint = body.joint.as_ref()?;
+            (joint.armature != 0.0 && joint.has_coordinate()).then_some((b, joint))
+        })
     }
 
     /// Smooth forces `h(q, u)`: gravity, centripetal terms, springs and damping, plus the
@@ -743,7 +760,7 @@ impl Model {
         kinematics.frame_directions_to(body, r, (geometry.normal, geometry.tangent()), w_n, w_t);
     }
 
-    /// Kinetic energy `½ Σ (m_b |v_b|² + I_b ω_b²)` = `½ uᵀ M u`.
+    /// Kinetic energy `½ Σ (m_b |v_b|² + I_b ω_b²) + ½ Σ armature q̇²` = `½ uᵀ M u`.
     pub fn kinetic_energy(&self, kinematics: &Kinematics) -> f64 {
         self.energies(kinematics).kinetic
     }
@@ -780,6 +797,10 @@ impl Model {
                 let stretch = kinematics.joint_position(b) - j.rest_position;
                 spring += 0.5 * j.stiffness * stretch * stretch;
             }
+        }
+        for (b, joint) in self.armatures() {
+            let rate = kinematics.joint_rate(b);
+            kinetic += 0.5 * joint.armature * rate * rate;
         }
         Energies {
             kinetic,
@@ -831,9 +852,20 @@ fn check_bodies(bodies: &[Body]) -> Result<(), ModelError> {
     if bodies.iter().all(|b| b.coordinate_count() == 0) {
         return Err(ModelError::NoCoordinates);
     }
+    // A link on a joint carrying a child whose coordinate it moves (not an absolute angle).
+    let carries_child = |b: usize| {
+        bodies[b].joint.is_some()
+            && bodies.iter().any(|c| {
+                c.joint.as_ref().is_some_and(|j| {
+                    j.parent == Some(b) && j.coordinate != JointCoordinate::Absolute
+                })
+            })
+    };
     for (b, body) in bodies.iter().enumerate() {
-        if body.is_fixed() {
-            // A fixed base only carries shapes: its mass and inertia may be zero.
+        if body.is_fixed() || carries_child(b) {
+            // A fixed base only carries shapes, and a link with children may be massless
+            // (their masses carry its coordinate, as MuJoCo's root slide–slide–hinge
+            // chain): its mass and inertia may be zero.
             for (what, value) in [("mass", body.mass), ("inertia", body.inertia)] {
                 if !(value >= 0.0 && value.is_finite()) {
                     return Err(ModelError::NonPositive {
@@ -878,6 +910,14 @@ fn joint_problem(joint: &Joint) -> Option<&'static str> {
     }
     if !non_negative(joint.stiffness) || !joint.rest_position.is_finite() {
         return Some("the joint spring's stiffness must be finite and non-negative, its rest position finite");
+    }
+    if !non_negative(joint.armature) {
+        return Some("the joint's armature must be finite and non-negative");
+    }
+    if joint.armature != 0.0
+        && (joint.coordinate == JointCoordinate::Absolute || !joint.has_coordinate())
+    {
+        return Some("an armature needs a joint whose coordinate is its joint position (not an absolute angle or a fixed body)");
     }
     match joint.kind {
         JointKind::Revolute => {}
@@ -941,7 +981,11 @@ fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError
             Shape::Point { position } if !finite(position) => {
                 return bad("the point must be finite")
             }
-            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } if !positive(*radius) => {
+            Shape::Circle { radius, .. }
+            | Shape::Arc { radius, .. }
+            | Shape::Capsule { radius, .. }
+                if !positive(*radius) =>
+            {
                 return bad("radius must be positive and finite")
             }
             Shape::Arc { start, end, .. }
@@ -952,6 +996,9 @@ fn check_shapes(shapes: &[ShapeInstance], count: usize) -> Result<(), ModelError
             }
             Shape::Ellipse { semi_x, semi_y, .. } if !positive(*semi_x) || !positive(*semi_y) => {
                 return bad("semi-axes must be positive and finite")
+            }
+            Shape::Capsule { from, to, .. } if !finite(from) || !finite(to) => {
+                return bad("the capsule's end points must be finite")
             }
             Shape::Polygon { vertices } if vertices.len() < 3 => {
                 return bad("a polygon needs at least three vertices")
@@ -1039,7 +1086,8 @@ fn limit_candidates(bodies: &[Body]) -> Vec<LimitCandidate> {
 
 /// Pairs every shape feature with every terrain feature it can touch: smooth boundaries
 /// (circle, arc, ellipse) with lines and corners, vertices (polygon corners, arc ends,
-/// points) with lines, a polygon's edges with corners.
+/// points, a capsule's end caps) with lines, a polygon's edges or a capsule's boundary
+/// with corners.
 fn candidates(
     bodies: &[Body],
     shapes: &[ShapeInstance],
@@ -1078,7 +1126,7 @@ fn candidates(
                     };
                     push(ShapeFeature::Vertex(k), label);
                 }
-            } else if matches!(inst.shape, Shape::Polygon { .. }) {
+            } else if matches!(inst.shape, Shape::Polygon { .. } | Shape::Capsule { .. }) {
                 push(ShapeFeature::Edges, String::new());
             }
         }

@@ -2,14 +2,14 @@
 //! their gap and contact frame in closed form, and their generalised directions.
 //!
 //! Every candidate is a *probe* of one shape (a circle's or arc's centre with its radius,
-//! or a corner point with radius zero) against the whole *target* shape of the other body:
+//! a capsule's end centre with its radius, or a corner point with radius zero) against the whole *target* shape of the other body:
 //! the gap is the signed distance from the probe's centre to the target minus the probe's
 //! radius, which is exact for a disc, a point and any convex target. The normal `n` is the
 //! target's outward normal at its closest point, so it points from the target (side A of
 //! §7) to the probe (side B), and a target fixed to the world reproduces the terrain
 //! contacts of §1.
 
-use crate::contact::{polygon_signed_distance, ContactGeometry, ContactMaterial, ShapeFeature};
+use crate::contact::{sided_signed_distance, ContactGeometry, ContactMaterial, ShapeFeature};
 use crate::ellipse::closest_point_on_ellipse;
 use crate::kinematics::Rotation;
 use crate::{Kinematics, Shape, ShapeInstance, Vec2};
@@ -62,11 +62,13 @@ impl PairGeometry {
 /// - round against a polygon, an ellipse or a point: the round boundary against the
 ///   polygon or ellipse (a polygon's corners are on its boundary, so they are covered) or
 ///   the point against the round shape; plus the arc ends;
-/// - polygon against polygon: every corner of each against the other;
-/// - a point against a polygon or an ellipse.
+/// - polygon or capsule against polygon or capsule: every corner of each (a capsule's
+///   corners are its end caps) against the other; two convex shapes apart are nearest at
+///   a corner of one of them, so this is exact;
+/// - a point against a polygon, an ellipse or a capsule.
 ///
-/// An ellipse against a polygon or another ellipse has no closed-form closest points,
-/// and two points never touch: these are errors.
+/// An ellipse against a polygon, a capsule or another ellipse has no closed-form closest
+/// points, and two points never touch: these are errors.
 pub fn pair_features(
     first: &Shape,
     second: &Shape,
@@ -84,11 +86,14 @@ pub fn pair_features(
         (Ellipse { .. }, Polygon { .. }) | (Polygon { .. }, Ellipse { .. }) => {
             return Err("an ellipse and a polygon have no closed-form closest points")
         }
+        (Ellipse { .. }, Capsule { .. }) | (Capsule { .. }, Ellipse { .. }) => {
+            return Err("an ellipse and a capsule have no closed-form closest points")
+        }
         (Point { .. }, Point { .. }) => return Err("two points never touch"),
         // The point is the probe (a polygon's or an ellipse's corners are its own).
         (Point { .. }, _) => out.push((true, ShapeFeature::Vertex(0))),
         (_, Point { .. }) => out.push((false, ShapeFeature::Vertex(0))),
-        (Polygon { .. }, Polygon { .. }) => {
+        (Polygon { .. } | Capsule { .. }, Polygon { .. } | Capsule { .. }) => {
             out.extend(corners(first, true));
             out.extend(corners(second, false));
         }
@@ -99,7 +104,7 @@ pub fn pair_features(
                 out.extend(corners(b, false));
             }
         }
-        // `second` is round, `first` a polygon or an ellipse.
+        // `second` is round, `first` a polygon, an ellipse or a capsule.
         (_, b) => {
             out.push((false, ShapeFeature::Smooth));
             out.extend(corners(b, false));
@@ -113,7 +118,7 @@ fn probe_of(shape: &Shape, feature: ShapeFeature) -> Option<(Vec2, f64)> {
     match (feature, shape) {
         (ShapeFeature::Smooth, Shape::Circle { center, radius })
         | (ShapeFeature::Smooth, Shape::Arc { center, radius, .. }) => Some((*center, *radius)),
-        (ShapeFeature::Vertex(k), _) => Some((shape.vertex(k)?, 0.0)),
+        (ShapeFeature::Vertex(k), _) => Some((shape.vertex(k)?, shape.vertex_radius())),
         _ => None,
     }
 }
@@ -133,7 +138,8 @@ impl Pose {
 
 /// Gap and contact frame of the probe `feature` of `probe` (a body at `probe_pose`)
 /// against `target` (at `target_pose`), or `None` when they cannot touch there (the
-/// closest point lies off an arc, or the probe's centre sits on a round target's centre).
+/// closest point lies off an arc, or the probe's centre sits on a round target's centre or
+/// a capsule's segment).
 pub(crate) fn pair_geometry(
     probe: &Shape,
     feature: ShapeFeature,
@@ -170,9 +176,9 @@ pub(crate) fn pair_geometry(
             let length = d.norm();
             (length, p, d.try_normalize(1e-12 * (1.0 + length))?)
         }
-        Shape::Polygon { vertices } => {
+        Shape::Polygon { .. } | Shape::Capsule { .. } => {
             let local = target_pose.rotation.inverse(center - target_pose.position);
-            let (s, closest, outward) = polygon_signed_distance(vertices, local)?;
+            let (s, closest, outward) = sided_signed_distance(target, local)?;
             (
                 s,
                 target_pose.to_world(closest),

@@ -26,6 +26,11 @@ pub enum Shape {
     Point { position: Vec2 },
     /// A convex polygon, vertices counter-clockwise (the cube baseline of §5.3).
     Polygon { vertices: Vec<Vec2> },
+    /// The points within `radius` of the segment `from`–`to` (a rod with round ends,
+    /// MuJoCo's capsule in its plane). Its two end caps are its corners (discs of
+    /// `radius` about `from` and `to`, [`Shape::vertex_radius`]); its segment meets
+    /// terrain corners and other bodies (docs/physics.md §2, §7).
+    Capsule { from: Vec2, to: Vec2, radius: f64 },
 }
 
 impl Shape {
@@ -41,11 +46,11 @@ impl Shape {
     }
 
     /// Number of corner points that can touch the terrain on their own (polygon
-    /// vertices, the two arc end points, the point itself).
+    /// vertices, the two arc end points, the point itself, a capsule's two end centres).
     pub fn vertex_count(&self) -> usize {
         match self {
             Shape::Circle { .. } | Shape::Ellipse { .. } => 0,
-            Shape::Arc { .. } => 2,
+            Shape::Arc { .. } | Shape::Capsule { .. } => 2,
             Shape::Point { .. } => 1,
             Shape::Polygon { vertices } => vertices.len(),
         }
@@ -66,6 +71,17 @@ impl Shape {
             }
             Shape::Point { position } => (k == 0).then_some(*position),
             Shape::Polygon { vertices } => vertices.get(k).copied(),
+            Shape::Capsule { from, to, .. } => [*from, *to].get(k).copied(),
+        }
+    }
+
+    /// The radius of the disc about each corner point: a capsule's radius (its end caps),
+    /// 0 for the sharp corners of the other shapes.
+    #[inline]
+    pub fn vertex_radius(&self) -> f64 {
+        match self {
+            Shape::Capsule { radius, .. } => *radius,
+            _ => 0.0,
         }
     }
 

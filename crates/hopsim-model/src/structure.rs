@@ -126,7 +126,7 @@ fn jacobian_pattern(model: &Model) -> (Vec<usize>, Vec<usize>, bool) {
             JointKind::Revolute => {
                 let theta = match joint.coordinate {
                     JointCoordinate::Absolute => vec![coord],
-                    JointCoordinate::Relative => union(&pt, &[coord]),
+                    JointCoordinate::Relative | JointCoordinate::Clockwise => union(&pt, &[coord]),
                 };
                 let mut levers: Vec<usize> = Vec::new();
                 if joint.pivot_in_parent != Vec2::zeros() {

@@ -1,15 +1,20 @@
 //! Contact geometry against independent geometry (docs/physics.md §1-§2): an ellipse and a
 //! convex polygon against a terrain corner, checked by dense sampling with Newton
 //! refinement, by point-segment distances and by parry2d's GJK/EPA queries; and the
-//! clearance of every shape above a step, from all its candidates together.
+//! clearance of every shape above a step, from all its candidates together. The capsule:
+//! against flat ground (its lowest point in closed form), against a corner (the distance
+//! to its segment, and parry2d's capsule projection), its clearance above a step.
 
 use hopsim_model::{ContactMaterial, Kinematics, Model, Shape, Terrain, TerrainFeature, Vec2};
 use nalgebra::DVector;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query::details::distance_support_map_support_map;
 use parry2d_f64::query::PointQuery;
-use parry2d_f64::shape::{Ball, ConvexPolygon, SupportMap};
+use parry2d_f64::shape::{Ball, Capsule, ConvexPolygon, SupportMap};
 use proptest::prelude::*;
+
+mod common;
+use common::{capsule, end_points};
 
 fn model(shape: Shape, terrain: Terrain) -> Model {
     Model::single_body(1.0, 0.01, shape, terrain, ContactMaterial::default()).unwrap()
@@ -252,11 +257,12 @@ proptest! {
         check_corner(Shape::Polygon { vertices }, [x, y, phi], reference)?;
     }
 
-    /// Above a step, the smallest gap over all of a shape's candidates (lines and corner)
-    /// is its clearance to the terrain, sampled densely along the shape's boundary.
+    /// Above a step, the smallest gap over all of a shape's candidates (lines and corner;
+    /// a capsule's caps and boundary) is its clearance to the terrain, sampled densely
+    /// along the shape's boundary.
     #[test]
     fn clearance_above_a_step(
-        which in 0..3usize,
+        which in 0..4usize,
         size in 0.05..0.2f64, ratio in 0.3..1.0f64,
         x in -0.4..0.4f64, y in 0.0..0.5f64, phi in -3.2..3.2f64,
     ) {
@@ -277,6 +283,20 @@ proptest! {
                 }).collect();
                 (Shape::Polygon { vertices: v }, samples)
             }
+            3 => (
+                // A capsule: its two end circles and its two sides.
+                Shape::Capsule { from: Vec2::new(-a, 0.0), to: Vec2::new(a, 0.0), radius: b },
+                (0..20_000).flat_map(|k| {
+                    let t = k as f64 * std::f64::consts::TAU / 20_000.0;
+                    let s = -a + 2.0 * a * k as f64 / 20_000.0;
+                    [
+                        Vec2::new(-a, 0.0) + b * Vec2::new(t.cos(), t.sin()),
+                        Vec2::new(a, 0.0) + b * Vec2::new(t.cos(), t.sin()),
+                        Vec2::new(s, b),
+                        Vec2::new(s, -b),
+                    ]
+                }).collect(),
+            ),
             _ => (
                 Shape::Circle { center: Vec2::new(0.0, b - a), radius: a },
                 (0..20_000).map(|k| {
@@ -304,6 +324,59 @@ proptest! {
             .fold(f64::INFINITY, f64::min);
         prop_assert!(gap <= clearance + 1e-12, "gap {gap} above clearance {clearance}");
         prop_assert!(clearance - gap < 2e-4, "gap {gap} vs sampled clearance {clearance}");
+    }
+
+
+    /// On flat ground each end cap is a candidate whose gap is its centre's height less
+    /// the radius; the lowest is the capsule's lowest point.
+    #[test]
+    fn capsule_on_flat_ground(
+        (a, b, r) in end_points(), x in -1.0..1.0f64, y in -0.5..0.5f64, phi in -4.0..4.0f64,
+        height in -0.3..0.3f64,
+    ) {
+        let m = model(capsule(a, b, r), Terrain::flat(height));
+        let k = workspace(&m, [x, y, phi]);
+        prop_assert_eq!(m.contacts().len(), 2);
+        for (i, end) in [a, b].into_iter().enumerate() {
+            prop_assert_eq!(m.contacts()[i].feature, ShapeFeature::Vertex(i));
+            let centre = Vec2::new(x, y) + rotate(phi, end);
+            let g = m.contact_geometry(&k, i).unwrap();
+            prop_assert!((g.gap - (centre.y - r - height)).abs() < 1e-12);
+            prop_assert!((g.point - (centre - Vec2::new(0.0, r))).norm() < 1e-12);
+            prop_assert_eq!(g.normal, Vec2::new(0.0, 1.0));
+        }
+    }
+
+    /// Against a corner: the gap is the corner's distance from the segment less the radius
+    /// (also parry2d's signed distance to its capsule), the normal points from the corner
+    /// to the segment, and the contact point lies on the capsule's boundary; a cone facing
+    /// away has no contact.
+    #[test]
+    fn capsule_against_a_corner(
+        (a, b, r) in end_points(), x in -0.5..0.5f64, y in -0.5..0.5f64, phi in -4.0..4.0f64,
+    ) {
+        let local = rotate(-phi, -Vec2::new(x, y));
+        let (distance, foot) = segment_distance(a, b, local);
+        prop_assume!(distance > 1e-6);
+        let reference = distance - r;
+        let parry = Capsule::new(Vector::new(a.x, a.y), Vector::new(b.x, b.y), r);
+        let projection = parry.project_local_point(Vector::new(local.x, local.y), false);
+        let d = (projection.point - Vector::new(local.x, local.y)).length();
+        let signed = if projection.is_inside { -d } else { d };
+        prop_assert!((signed - reference).abs() < 1e-12, "parry {signed} vs {reference}");
+        let normal = rotate(phi, (foot - local) / distance);
+        let m = model(capsule(a, b, r), corner(normal, 0.3));
+        let k = workspace(&m, [x, y, phi]);
+        let edges = (0..m.contacts().len())
+            .find(|&i| m.contacts()[i].feature == ShapeFeature::Edges)
+            .unwrap();
+        let g = m.contact_geometry(&k, edges).unwrap();
+        prop_assert!((g.gap - reference).abs() < 1e-12, "gap {} vs {reference}", g.gap);
+        prop_assert!((g.normal - normal).norm() < 1e-12);
+        prop_assert!((g.point - g.gap * g.normal).norm() < 1e-12);
+        let m = model(capsule(a, b, r), corner(-normal, 0.3));
+        let k = workspace(&m, [x, y, phi]);
+        prop_assert!(m.contact_geometry(&k, edges).is_none());
     }
 }
 
@@ -566,4 +639,12 @@ proptest! {
         prop_assert!((g.point - (centre - radius * normal)).norm() < 1e-12);
         prop_assert_eq!(g.normal, normal);
     }
+}
+
+/// Distance of `p` from the segment `a`–`b`, by the segment's parameter.
+fn segment_distance(a: Vec2, b: Vec2, p: Vec2) -> (f64, Vec2) {
+    let e = b - a;
+    let t = ((p - a).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+    let foot = a + t * e;
+    ((p - foot).norm(), foot)
 }

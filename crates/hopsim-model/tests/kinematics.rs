@@ -162,12 +162,110 @@ fn forest(offsets: [f64; 6], damping: f64) -> Model {
     .unwrap()
 }
 
-/// The tree of [`tree`] or, with `several`, the trees of [`forest`].
-fn model(several: bool, offsets: [f64; 6], damping: f64) -> Model {
-    if several {
-        forest(offsets, damping)
-    } else {
-        tree(offsets, damping)
+/// MuJoCo's floating base as a chain (docs/mjcf.md): on a fixed ground, two massless
+/// links on prismatic joints along `x` and a tilted axis (the second with an armature),
+/// a torso on a clockwise revolute joint with a spring, damping and an armature, a thigh
+/// on another clockwise joint and a shin on a relative one, both with armatures. Offsets as
+/// in [`tree`].
+fn chain(offsets: [f64; 6], damping: f64) -> Model {
+    let [a, b, c, d, e, f] = offsets;
+    let body = |name: &str, mass, inertia, joint| Body {
+        name: name.into(),
+        mass,
+        inertia,
+        joint: Some(joint),
+    };
+    let slide = |parent, axis: Vec2, armature| Joint {
+        kind: JointKind::Prismatic {
+            axis: axis.normalize(),
+        },
+        armature,
+        damping,
+        ..Joint::revolute(Some(parent), Vec2::zeros(), Vec2::zeros())
+    };
+    let hinge = |parent, pivot, com, coordinate, armature| Joint {
+        coordinate,
+        armature,
+        damping,
+        stiffness: 3.0,
+        rest_position: 0.1,
+        ..Joint::revolute(Some(parent), pivot, com)
+    };
+    let bodies = vec![
+        body(
+            "ground",
+            0.0,
+            0.0,
+            Joint {
+                kind: JointKind::Fixed { angle: 0.0 },
+                ..Joint::revolute(None, Vec2::new(a, b), Vec2::zeros())
+            },
+        ),
+        body("rootx", 0.0, 0.0, slide(0, Vec2::new(1.0, 0.0), 0.0)),
+        body("rootz", 0.0, 0.0, slide(1, Vec2::new(c, 1.0), 0.3)),
+        body(
+            "torso",
+            3.0,
+            0.05,
+            hinge(
+                2,
+                Vec2::zeros(),
+                Vec2::new(c, 0.1),
+                JointCoordinate::Clockwise,
+                0.2,
+            ),
+        ),
+        body(
+            "thigh",
+            1.0,
+            0.02,
+            hinge(
+                3,
+                Vec2::new(d, e),
+                Vec2::new(f, -0.2),
+                JointCoordinate::Clockwise,
+                0.1,
+            ),
+        ),
+        body(
+            "shin",
+            0.5,
+            0.01,
+            hinge(
+                4,
+                Vec2::new(0.0, -0.4),
+                Vec2::new(0.0, -0.2),
+                JointCoordinate::Relative,
+                0.05,
+            ),
+        ),
+    ];
+    let foot = ShapeInstance {
+        name: "foot".into(),
+        body: 5,
+        shape: Shape::Capsule {
+            from: Vec2::new(-0.1, -0.2),
+            to: Vec2::new(0.1, -0.2),
+            radius: 0.03,
+        },
+    };
+    Model::new(
+        bodies,
+        vec![foot],
+        Terrain::flat(0.0),
+        vec![],
+        Vec2::new(0.0, -9.81),
+        ContactMaterial::default(),
+    )
+    .unwrap()
+}
+
+/// The tree of [`tree`] (0), the trees of [`forest`] (1) or the chain of [`chain`] (2).
+fn model(which: usize, offsets: [f64; 6], damping: f64) -> Model {
+    match which {
+        0 => tree(offsets, damping),
+        1 => forest(offsets, damping),
+        _ => chain(offsets, damping),
     }
 }
 
@@ -218,12 +316,12 @@ fn unit(n: usize, j: usize) -> DVector<f64> {
 }
 
 /// Offsets, `q`, `u` (the first `dof` entries are used) and which model.
-fn state() -> impl Strategy<Value = ([f64; 6], Vec<f64>, Vec<f64>, bool)> {
+fn state() -> impl Strategy<Value = ([f64; 6], Vec<f64>, Vec<f64>, usize)> {
     (
         prop::array::uniform6(-0.3..0.3f64),
         prop::collection::vec(-2.0..2.0f64, 6),
         prop::collection::vec(-3.0..3.0f64, 6),
-        any::<bool>(),
+        0..3usize,
     )
 }
 
@@ -233,8 +331,8 @@ proptest! {
     /// Jacobian = ∂(poses)/∂q, velocities = J u, bias = J̇ u, also after other updates of
     /// the same workspace (buffers are reused, not cleared).
     #[test]
-    fn jacobian_velocities_and_bias_match_finite_differences((offsets, q, u, several) in state()) {
-        let model = model(several, offsets, 0.0);
+    fn jacobian_velocities_and_bias_match_finite_differences((offsets, q, u, which) in state()) {
+        let model = model(which, offsets, 0.0);
         let n = model.dof();
         let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
         let mut kinematics = Kinematics::new(&model);
@@ -265,8 +363,8 @@ proptest! {
     /// included) and the velocity-product terms of relative and prismatic joints all checked
     /// at once.
     #[test]
-    fn mass_matrix_and_forces_follow_from_lagranges_equations((offsets, q, u, several) in state()) {
-        let model = model(several, offsets, 0.0);
+    fn mass_matrix_and_forces_follow_from_lagranges_equations((offsets, q, u, which) in state()) {
+        let model = model(which, offsets, 0.0);
         let n = model.dof();
         let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
         let kinematics = evaluate(&model, &q, &u);
@@ -320,17 +418,20 @@ proptest! {
         prop_assert!(u.dot(&d) <= 1e-12);
     }
 
-    /// In the trees of [`forest`], damping is `-c ṡ²` per damped joint, with `ṡ` the joint
-    /// position's rate by finite differences (prismatic extensions, the pinned arm's angle).
+    /// In the trees of [`forest`] and the chain of [`chain`], damping is `-c ṡ²` per damped
+    /// joint, with `ṡ` the joint position's rate by finite differences (prismatic
+    /// extensions, the pinned arm's angle, clockwise and relative angles).
     #[test]
-    fn joint_damping_of_several_trees_dissipates((offsets, q, u, _) in state(), c in 0.0..3.0f64) {
-        let model = forest(offsets, c);
+    fn joint_damping_of_several_trees_dissipates((offsets, q, u, which) in state(), c in 0.0..3.0f64) {
+        let chained = which == 2;
+        let model = if chained { chain(offsets, c) } else { forest(offsets, c) };
         let n = model.dof();
         let (q, u) = (DVector::from_column_slice(&q[..n]), DVector::from_column_slice(&u[..n]));
         let kinematics = evaluate(&model, &q, &u);
         let mut d = DVector::zeros(n);
         model.damping_forces(&kinematics, &mut d);
-        let expected: f64 = [1, 3, 4]
+        let damped: &[usize] = if chained { &[1, 2, 3, 4, 5] } else { &[1, 3, 4] };
+        let expected: f64 = damped
             .iter()
             .map(|&b| {
                 let position = |q: &DVector<f64>| evaluate(&model, q, &u).joint_position(b);
@@ -339,6 +440,117 @@ proptest! {
             .sum();
         prop_assert!((u.dot(&d) - expected).abs() < 1e-6 * (1.0 + expected.abs()));
     }
+}
+
+/// A clockwise joint is a relative one turned the other way: the same poses at `−q`, its
+/// column of the Jacobian and its spring's force negated, `M` congruent by the sign; an
+/// armature adds to `M`'s diagonal and to the kinetic energy alone.
+#[test]
+fn clockwise_joints_and_armatures() {
+    let offsets = [0.05, -0.1, 0.02, 0.1, -0.03, 0.04];
+    let with = chain(offsets, 0.0);
+    let plain = {
+        let mut bodies = with.bodies().to_vec();
+        for body in &mut bodies {
+            let joint = body.joint.as_mut().unwrap();
+            joint.armature = 0.0;
+            if joint.coordinate == JointCoordinate::Clockwise {
+                joint.coordinate = JointCoordinate::Relative;
+                joint.rest_position = -joint.rest_position;
+            }
+        }
+        Model::new(
+            bodies,
+            with.shapes().to_vec(),
+            with.terrain().clone(),
+            vec![],
+            with.gravity(),
+            ContactMaterial::default(),
+        )
+        .unwrap()
+    };
+    // Coordinates 2 and 3 are the clockwise angles.
+    let sign = DVector::from_row_slice(&[1.0, 1.0, -1.0, -1.0, 1.0]);
+    let q = DVector::from_row_slice(&[0.3, -0.2, 0.7, -1.1, 0.4]);
+    let u = DVector::from_row_slice(&[1.0, 0.5, -2.0, 3.0, -1.5]);
+    let (qs, us) = (q.component_mul(&sign), u.component_mul(&sign));
+    let (k, ks) = (evaluate(&with, &q, &u), evaluate(&plain, &qs, &us));
+    for b in 0..with.bodies().len() {
+        assert!((k.position(b) - ks.position(b)).norm() < 1e-15);
+        assert!((k.angle(b) - ks.angle(b)).abs() < 1e-15);
+        assert!((k.velocity(b) - ks.velocity(b)).norm() < 1e-14);
+    }
+    let mass = |model: &Model, k: &Kinematics| {
+        let mut m = DMatrix::zeros(5, 5);
+        model.mass_matrix(k, &mut m);
+        m
+    };
+    let s = DMatrix::from_diagonal(&sign);
+    let armature = DMatrix::from_diagonal(&DVector::from_row_slice(&[0.0, 0.3, 0.2, 0.1, 0.05]));
+    let difference = mass(&with, &k) - (&s * mass(&plain, &ks) * &s + &armature);
+    assert!(difference.amax() < 1e-14, "{difference}");
+    let extra = 0.5 * u.dot(&(&armature * &u));
+    let kinetic = with.kinetic_energy(&k) - plain.kinetic_energy(&ks);
+    assert!((kinetic - extra).abs() < 1e-13, "{kinetic} vs {extra}");
+    let forces = |model: &Model, k: &Kinematics| {
+        let mut h = DVector::zeros(5);
+        model.forces(k, &DVector::zeros(5), &mut h);
+        h
+    };
+    let difference = forces(&with, &k) - &s * forces(&plain, &ks);
+    assert!(difference.amax() < 1e-12, "{difference}");
+    // The joint positions are the coordinates themselves.
+    assert_eq!(k.joint_position(3), q[2]);
+    assert_eq!(k.joint_position(4), q[3]);
+}
+
+/// A massless body needs a child to carry its coordinate; an armature needs a joint
+/// position as its coordinate.
+#[test]
+fn massless_links_need_children_and_armatures_joint_positions() {
+    let slide = Joint {
+        kind: JointKind::Prismatic {
+            axis: Vec2::new(1.0, 0.0),
+        },
+        ..Joint::revolute(None, Vec2::zeros(), Vec2::zeros())
+    };
+    let body = |name: &str, mass, joint| Body {
+        name: name.into(),
+        mass,
+        inertia: mass,
+        joint: Some(joint),
+    };
+    let build = |bodies| {
+        Model::new(
+            bodies,
+            vec![],
+            Terrain::flat(0.0),
+            vec![],
+            Vec2::zeros(),
+            ContactMaterial::default(),
+        )
+    };
+    let child = Joint {
+        parent: Some(0),
+        ..Joint::revolute(Some(0), Vec2::zeros(), Vec2::new(0.1, 0.0))
+    };
+    assert!(build(vec![
+        body("link", 0.0, slide.clone()),
+        body("arm", 1.0, child.clone())
+    ])
+    .is_ok());
+    let error = build(vec![body("link", 0.0, slide.clone())]).unwrap_err();
+    assert!(
+        error.to_string().contains("mass must be positive"),
+        "{error}"
+    );
+    let absolute = Joint {
+        coordinate: JointCoordinate::Absolute,
+        armature: 0.1,
+        ..child
+    };
+    let error = build(vec![body("link", 1.0, slide), body("arm", 1.0, absolute)]).unwrap_err();
+    assert!(error.to_string().contains("armature"), "{error}");
 }
 
 /// Coordinates are numbered in body order: 3 per floating base, 1 per joint, none for a

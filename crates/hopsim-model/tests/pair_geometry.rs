@@ -1,7 +1,8 @@
 //! Body–body contact geometry (docs/physics.md §7) against parry2d's contact query, an
-//! independent implementation: disc–disc, disc–polygon and polygon–polygon (separated),
-//! each pair on two floating bodies at random poses; and the generalised directions
-//! `w_N`, `w_T` against finite differences of the gap and of the contact points.
+//! independent implementation: disc–disc, disc–polygon, polygon–polygon (separated) and a
+//! capsule against a disc, a point, a box and a capsule, each pair on two floating bodies
+//! at random poses; and the generalised directions `w_N`, `w_T` against finite differences
+//! of the gap and of the contact points.
 
 use hopsim_model::{
     Body, ContactMaterial, Kinematics, Model, ModelBuilder, Shape, ShapeInstance, Terrain, Vec2,
@@ -9,8 +10,11 @@ use hopsim_model::{
 use nalgebra::DVector;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query::contact;
-use parry2d_f64::shape::{Ball, ConvexPolygon};
+use parry2d_f64::shape::{Ball, Capsule, ConvexPolygon};
 use proptest::prelude::*;
+
+mod common;
+use common::{capsule, end_points};
 
 /// Two floating bodies, shape `a` on the first and `b` on the second, paired with
 /// `Model::add_body_contacts`; no gravity, the terrain far below.
@@ -59,26 +63,42 @@ fn min_gap(model: &Model, q: &[f64; 6]) -> Option<(f64, Vec2)> {
         .min_by(|x, y| x.0.total_cmp(&y.0))
 }
 
-fn parry_shape(shape: &Shape) -> Box<dyn parry2d_f64::shape::Shape> {
+fn parry_shape(shape: &Shape) -> (Vec2, Box<dyn parry2d_f64::shape::Shape>) {
+    let v = |p: &Vec2| Vector::new(p.x, p.y);
     match shape {
-        Shape::Circle { radius, .. } => Box::new(Ball::new(*radius)),
-        Shape::Polygon { vertices } => Box::new(
-            ConvexPolygon::from_convex_polyline(
-                vertices.iter().map(|v| Vector::new(v.x, v.y)).collect(),
-            )
-            .unwrap(),
+        Shape::Circle { center, radius } => (*center, Box::new(Ball::new(*radius))),
+        Shape::Point { position } => (*position, Box::new(Ball::new(0.0))),
+        Shape::Capsule { from, to, radius } => (
+            Vec2::zeros(),
+            Box::new(Capsule::new(v(from), v(to), *radius)),
         ),
-        _ => unreachable!(),
+        Shape::Polygon { vertices } => (
+            Vec2::zeros(),
+            Box::new(
+                ConvexPolygon::from_convex_polyline(vertices.iter().map(v).collect()).unwrap(),
+            ),
+        ),
+        _ => unreachable!("not used here"),
     }
 }
 
 /// parry's signed distance and normal (first → second) of the two shapes at `q`.
 fn parry_gap(a: &Shape, b: &Shape, q: &[f64; 6]) -> (f64, Vec2) {
-    let pose = |i: usize| Pose::new(Vector::new(q[3 * i], q[3 * i + 1]), q[3 * i + 2]);
-    let c = contact(&pose(0), &*parry_shape(a), &pose(1), &*parry_shape(b), 10.0)
+    let (sa, pa) = parry_shape(a);
+    let (sb, pb) = parry_shape(b);
+    let pose = |i: usize, offset: Vec2| {
+        let at = Vec2::new(q[3 * i], q[3 * i + 1]) + rotate(q[3 * i + 2], offset);
+        Pose::new(Vector::new(at.x, at.y), q[3 * i + 2])
+    };
+    let c = contact(&pose(0, sa), &*pa, &pose(1, sb), &*pb, 10.0)
         .unwrap()
         .unwrap();
     (c.dist, Vec2::new(c.normal1.x, c.normal1.y))
+}
+
+fn rotate(theta: f64, v: Vec2) -> Vec2 {
+    let (s, c) = theta.sin_cos();
+    Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
 }
 
 fn box_shape(w: f64, h: f64) -> Shape {
@@ -166,6 +186,95 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        max_global_rejects: 1_000_000,
+        ..ProptestConfig::default()
+    })]
+
+    /// A capsule against a disc, a point, a box or a capsule on another body at random
+    /// poses: the smallest gap is parry2d's distance (apart), and a disc's or a point's
+    /// gap and normal are parry's also when they overlap.
+    #[test]
+    fn capsule_against_other_shapes(
+        which in 0..4usize, (a, b, r) in end_points(), size in 0.02..0.2f64,
+        x in -0.8..0.8f64, y in -0.8..0.8f64, p1 in -4.0..4.0f64, p2 in -4.0..4.0f64,
+    ) {
+        let other = match which {
+            0 => Shape::Circle { center: Vec2::new(0.03, -0.02), radius: size },
+            1 => Shape::Point { position: Vec2::new(size, 0.01) },
+            2 => Shape::rectangle(Vec2::new(0.01, 0.02), size, 0.7 * size),
+            _ => capsule(Vec2::new(-size, 0.02), Vec2::new(size, -0.01), 0.5 * size),
+        };
+        let first = capsule(a, b, r);
+        let model = pair_model(first.clone(), other.clone());
+        let expected = [1, 1, 2 + 4, 2 + 2][which];
+        prop_assert_eq!(model.pairs().len(), expected);
+        let q = [0.0, 0.0, p1, x, y, p2];
+        let (reference, parry_normal) = parry_gap(&first, &other, &q);
+        let round = which < 2;
+        prop_assume!(round || reference > 1e-3);
+        let Some((gap, normal)) = min_gap(&model, &q) else {
+            return Err(TestCaseError::reject("a probe centred on the segment has no direction"));
+        };
+        // parry's GJK between polygons and capsules converges to about 1e-8.
+        let tolerance = if round { 1e-12 } else { 1e-7 };
+        prop_assert!((gap - reference).abs() < tolerance, "gap {gap} vs parry {reference}");
+        if round && reference.abs() > 1e-6 {
+            prop_assert!((normal - parry_normal).norm() < 1e-6, "{normal} vs {parry_normal}");
+        }
+    }
+
+    /// `w_N = ∂g_N/∂q` by central differences of the gap, for every candidate of two
+    /// capsules and of a capsule and a box.
+    #[test]
+    fn capsule_normal_direction_is_the_gap_gradient(
+        boxed in any::<bool>(), x in -0.3..0.3f64, y in 0.3..0.5f64,
+        p1 in -1.0..1.0f64, p2 in -4.0..4.0f64,
+    ) {
+        let first = capsule(Vec2::new(-0.2, 0.01), Vec2::new(0.15, -0.02), 0.05);
+        let other = if boxed {
+            Shape::rectangle(Vec2::zeros(), 0.1, 0.05)
+        } else {
+            capsule(Vec2::new(-0.1, 0.0), Vec2::new(0.1, 0.03), 0.04)
+        };
+        let model = pair_model(first, other);
+        let q = [0.0, 0.0, p1, x, y, p2];
+        let k = kinematics(&model, &q);
+        for p in 0..model.pairs().len() {
+            let geometry = model.pair_geometry(&k, p).unwrap();
+            let (mut w_n, mut w_t) = (vec![0.0; 6], vec![0.0; 6]);
+            model.pair_directions_to(&k, p, &geometry, &mut w_n, &mut w_t);
+            let h = 1e-6;
+            let gap = |q: &[f64; 6]| model.pair_geometry(&kinematics(&model, q), p).unwrap().gap;
+            for i in 0..6 {
+                let (mut plus, mut minus) = (q, q);
+                plus[i] += h;
+                minus[i] -= h;
+                let fd = (gap(&plus) - gap(&minus)) / (2.0 * h);
+                prop_assert!((fd - w_n[i]).abs() < 1e-6, "pair {p}: w_N[{i}] = {} vs {fd}", w_n[i]);
+            }
+        }
+    }
+}
+
+/// Two capsules lying parallel on each other touch at both ends (two rows, as a box on a
+/// box), each with the gap between the surfaces.
+#[test]
+fn parallel_capsules_touch_at_both_ends() {
+    let rod = capsule(Vec2::new(-0.2, 0.0), Vec2::new(0.2, 0.0), 0.05);
+    let model = pair_model(rod.clone(), rod);
+    let q = [0.0, 0.0, 0.0, 0.05, 0.1 + 1e-3, 0.0];
+    let k = kinematics(&model, &q);
+    let gaps: Vec<f64> = (0..model.pairs().len())
+        .filter_map(|p| model.pair_geometry(&k, p).map(|g| g.gap))
+        .filter(|g| *g < 0.01)
+        .collect();
+    assert_eq!(gaps.len(), 2, "{gaps:?}");
+    assert!(gaps.iter().all(|g| (g - 1e-3).abs() < 1e-12), "{gaps:?}");
+}
+
 /// Pairs hopsim cannot compute exactly are refused, with the reason.
 #[test]
 fn inexact_pairs_are_refused() {
@@ -180,6 +289,15 @@ fn inexact_pairs_are_refused() {
     for (a, b, reason) in [
         (ellipse.clone(), box_shape(0.1, 0.1), "no closed-form"),
         (ellipse.clone(), ellipse.clone(), "no closed-form"),
+        (
+            ellipse.clone(),
+            Shape::Capsule {
+                from: Vec2::new(-0.1, 0.0),
+                to: Vec2::new(0.1, 0.0),
+                radius: 0.02,
+            },
+            "an ellipse and a capsule",
+        ),
         (point.clone(), point.clone(), "never touch"),
     ] {
         let shape = |name: &str, body: usize, shape: Shape| ShapeInstance {

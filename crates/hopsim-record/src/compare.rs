@@ -8,8 +8,8 @@
 //! steps and the brake/lock channels are left out, since the two name them differently.
 
 use crate::mcap_read::BRAKE_CHANNEL;
+use crate::{ImpulseTrace, TraceDifference, TraceError, TraceTolerance};
 use crate::{McapRecording, RecordError, StateSample};
-use hopsim_step::{ImpulseTrace, TraceDifference, TraceError, TraceTolerance};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::Path;

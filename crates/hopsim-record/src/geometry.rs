@@ -3,7 +3,7 @@
 
 use crate::RecordingInfo;
 use hopsim_model::{Shape, Terrain, TerrainFeature, Vec2};
-use std::f64::consts::TAU;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// A planar point, m.
 pub(crate) type Point = [f64; 2];
@@ -75,6 +75,20 @@ impl Outline {
                 semi_y,
             } => Self::Strip(around([center.x, center.y], *semi_x, *semi_y, 0.0, TAU)),
             Shape::Point { position } => Self::Marker([position.x, position.y]),
+            Shape::Capsule { from, to, radius } => {
+                // Half a turn about each end, joined by the two straight sides.
+                let turn = (to - from).y.atan2((to - from).x) - FRAC_PI_2;
+                let mut points = around([to.x, to.y], *radius, *radius, turn, turn + PI);
+                points.extend(around(
+                    [from.x, from.y],
+                    *radius,
+                    *radius,
+                    turn + PI,
+                    turn + TAU,
+                ));
+                points.push(points[0]);
+                Self::Strip(points)
+            }
             Shape::Polygon { vertices } => Self::Strip(
                 vertices
                     .iter()
@@ -312,6 +326,29 @@ mod tests {
             assert!(((p[0]).hypot(p[1] - 0.1) - 0.2).abs() < 1e-12);
         }
         assert!((Outline::of(&shape).reach() - 0.3).abs() < 1e-3);
+    }
+
+    /// A capsule's outline is closed, every point lies at its radius from the segment,
+    /// and it reaches the far end of a cap.
+    #[test]
+    fn capsule_outline_is_closed_and_at_its_radius_from_the_segment() {
+        let (from, to, radius) = (Vec2::new(-0.1, 0.05), Vec2::new(0.3, -0.1), 0.04);
+        let Outline::Strip(points) = Outline::of(&Shape::Capsule { from, to, radius }) else {
+            panic!("a capsule is a strip")
+        };
+        assert!(close(points[0], *points.last().unwrap()));
+        let e = to - from;
+        for p in &points {
+            let p = Vec2::new(p[0], p[1]);
+            let t = ((p - from).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+            assert!(((p - (from + t * e)).norm() - radius).abs() < 1e-12);
+        }
+        let reach = to.norm() + radius;
+        let drawn = Outline::of(&Shape::Capsule { from, to, radius }).reach();
+        assert!(
+            drawn <= reach + 1e-12 && reach - drawn < 1e-3,
+            "{drawn} vs {reach}"
+        );
     }
 
     #[test]

@@ -15,6 +15,7 @@ mod mcap_read;
 mod mcap_write;
 #[cfg(feature = "rerun")]
 mod rerun_sink;
+mod trace;
 
 pub use compare::{
     diff_recorded_states, diff_run_files, RunDiff, RunDiffOptions, StateDifference, StateMismatch,
@@ -38,12 +39,13 @@ pub use mcap_read::{
 pub use mcap_write::McapRecorder;
 #[cfg(feature = "rerun")]
 pub use rerun_sink::{Pace, RerunRecorder, RERUN_VIEWER_INSTALL, STEP_TIMELINE, TIME_TIMELINE};
+pub use trace::{
+    ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance, BLESS_ENV,
+    MAX_TRACE_BYTES,
+};
 
 /// Types of the public API from other hopsim crates, re-exported for the CLI and tests.
 pub use hopsim_model::{Shape, Terrain};
-pub use hopsim_step::{
-    ImpulseSample, ImpulseTrace, TraceDifference, TraceTolerance, MAX_TRACE_BYTES,
-};
 
 use std::path::{Path, PathBuf};
 

@@ -7,7 +7,7 @@ use crate::mcap_format::{
     STOP_METADATA_NAME,
 };
 use crate::{Event, EventKind, RecordError, Stop};
-use hopsim_step::{ImpulseSample, ImpulseTrace};
+use crate::{ImpulseSample, ImpulseTrace};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::{MessageStream, Summary};
 use std::collections::BTreeMap;

@@ -305,11 +305,20 @@ pub(crate) fn read_bodies(
             None => None,
         };
         let fixed = base == Some("fixed");
+        // A link on a joint (not a floating base) with children.
+        let floating = (b == 0 && base.is_none()) || base == Some("floating");
+        let has_child = !floating && parents.iter().skip(b + 1).any(|p| *p == Some(name));
         let (mass, inertia) = if fixed {
             // A fixed base only carries shapes: its mass and inertia are optional.
             (
                 t.f64_or("mass", 0.0, Num::non_negative("kg"))?,
                 t.f64_or("inertia", 0.0, Num::non_negative("kg m²"))?,
+            )
+        } else if has_child {
+            // A link with children may be massless: their masses carry its coordinate.
+            (
+                t.f64("mass", Num::non_negative("kg"))?,
+                t.f64("inertia", Num::non_negative("kg m²"))?,
             )
         } else {
             (
@@ -482,14 +491,28 @@ fn read_joint(
         )
     };
     let (position_unit, damping_unit, stiffness_unit) = unit;
-    let coordinate = if prismatic || parent.is_none() {
+    let coordinate = if prismatic {
         JointCoordinate::Relative
     } else {
-        match t.choice("coordinate", &["relative", "absolute"], Some("relative"))? {
+        let choices: &[&str] = match parent {
+            Some(_) => &["relative", "clockwise", "absolute"],
+            None => &["relative", "clockwise"],
+        };
+        match t.choice("coordinate", choices, Some("relative"))? {
             "absolute" => JointCoordinate::Absolute,
+            "clockwise" => JointCoordinate::Clockwise,
             _ => JointCoordinate::Relative,
         }
     };
+    let armature_unit = if prismatic { "kg" } else { "kg m²" };
+    let armature = t.f64_or("armature", 0.0, Num::non_negative(armature_unit))?;
+    if armature != 0.0 && coordinate == JointCoordinate::Absolute {
+        return Err(t.error_at_key(
+            "armature",
+            "an armature adds to the joint coordinate's diagonal of the mass matrix; an \
+             absolute angle is not the joint's position (use coordinate = \"relative\")",
+        ));
+    }
     let coordinate_name = match t.opt_str("coordinate_name")? {
         Some(c) => c.to_string(),
         None => format!("{prefix}_{name}"),
@@ -534,6 +557,7 @@ fn read_joint(
         stiffness: t.f64_or("stiffness", 0.0, Num::non_negative(stiffness_unit))?,
         rest_position: t.f64_or("rest_position", 0.0, Num::any(position_unit).coordinate())?,
         limits,
+        armature,
     })
 }
 
@@ -559,7 +583,9 @@ pub(crate) fn read_shapes(
         let body = bodies.resolve(t, "body")?;
         let kind = t.choice(
             "type",
-            &["circle", "arc", "ellipse", "point", "polygon", "box"],
+            &[
+                "circle", "arc", "ellipse", "point", "polygon", "box", "capsule",
+            ],
             None,
         )?;
         let name = match t.opt_str("name")? {
@@ -621,6 +647,11 @@ fn read_geometry(t: &Table<'_>, kind: &str) -> Result<Shape, SceneError> {
         },
         "point" => Shape::Point {
             position: vec2(t.vec2("position", None, "m")?),
+        },
+        "capsule" => Shape::Capsule {
+            from: vec2(t.vec2("from", None, "m")?),
+            to: vec2(t.vec2("to", None, "m")?),
+            radius: t.f64("radius", length)?,
         },
         "box" => {
             let c = center()?;

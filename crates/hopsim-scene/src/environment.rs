@@ -6,7 +6,9 @@ use hopsim_model::{ContactMaterial, Terrain};
 
 /// Reads the terrain and the default contact material (docs/physics.md §4: `μ`, `ε_N`, `ε_T`).
 pub(crate) fn read_environment(env: &Table<'_>) -> Result<(Terrain, ContactMaterial), SceneError> {
-    let terrain = match env.choice("terrain", &["flat", "incline", "step"], Some("flat"))? {
+    let kinds = ["flat", "incline", "step", "none"];
+    let terrain = match env.choice("terrain", &kinds, Some("flat"))? {
+        "none" => Terrain { features: vec![] },
         "flat" => Terrain::flat(env.f64_or("height", 0.0, Num::any("m").coordinate())?),
         "incline" => {
             let half_pi = std::f64::consts::FRAC_PI_2;

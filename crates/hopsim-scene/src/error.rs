@@ -51,6 +51,9 @@ pub enum SceneError {
     /// A `--set` argument that is not `key=value`.
     #[error("{text}: {message}")]
     Override { text: String, message: String },
+    /// A MuJoCo model that cannot be read or has no scene (the message names its place).
+    #[error("{0}")]
+    Import(String),
 }
 
 impl SceneError {
@@ -113,17 +116,7 @@ impl Source<'_> {
     }
 }
 
-/// A number for messages: the shortest text that reads back as `v` (at most 17
-/// significant digits), in exponent form for very large or very small magnitudes, so
-/// `1e308` is not printed with 309 digits.
-pub fn number(v: f64) -> String {
-    let magnitude = v.abs();
-    if v == 0.0 || !v.is_finite() || (1e-4..1e16).contains(&magnitude) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
+pub use hopsim_io::number;
 
 /// At most `max` of `items` joined by ", ", then "… (N more)".
 pub fn short_list<'a>(items: impl IntoIterator<Item = &'a str>, max: usize) -> String {

@@ -5,13 +5,7 @@ use crate::error::{did_you_mean, number, suggestion, Location, SceneError, Sourc
 use crate::tree::{Entry, Kind, Node, Origin};
 use std::cell::RefCell;
 
-/// Largest magnitude of any number a scene gives (masses, stiffnesses, torques, times,
-/// rates, …) unless a tighter bound applies: far beyond any robot, far below the range
-/// where the simulator's derived quantities (energies, mass matrices) overflow.
-pub const MAX_MAGNITUDE: f64 = 1e9;
-/// Largest magnitude of a position, length or angle, m or rad (a coordinate beyond it
-/// makes energies and contact gaps lose all precision or overflow).
-pub const MAX_COORDINATE: f64 = 1e6;
+pub use hopsim_sim::{MAX_COORDINATE, MAX_MAGNITUDE};
 
 /// What a number must be, for checks and for messages.
 #[derive(Clone, Copy, Debug)]

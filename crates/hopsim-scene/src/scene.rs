@@ -7,14 +7,16 @@ use crate::environment::read_environment;
 use crate::error::{SceneError, Source};
 use crate::overrides::{apply, Override};
 use crate::reader::Table;
-use crate::settings::{read_meta, read_settings, Meta, Settings};
-use crate::start::{check_start, velocity, StartProblem, COORDINATE, PENETRATION_TOL};
+use crate::settings::{read_meta, read_settings, Meta};
+use crate::start::{velocity, COORDINATE};
 use crate::tree::Node;
-use hopsim_control::ControllerConfig;
 use hopsim_model::{Kinematics, Model, ModelBuilder, ModelError, Vec2};
-use hopsim_step::{State, StepSettings};
+use hopsim_sim::{check_start, Setup, StartProblem, PENETRATION_TOL};
+use hopsim_step::State;
 use nalgebra::DVector;
+use std::ops::{Deref, DerefMut};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Largest scene file [`load`] reads, bytes (8 MiB: a hundred times the largest sensible
 /// scene; `/dev/zero` or an endless pipe stops here instead of exhausting memory).
@@ -23,49 +25,51 @@ pub const MAX_SCENE_BYTES: u64 = 8 << 20;
 /// contact LCP is dense, its matrices grow with the square of this count.
 pub const MAX_CONTACTS: usize = 1000;
 
-/// A scene ready to simulate: model, initial state, controller and settings.
+/// A scene ready to simulate: the run's [`Setup`] (model, initial state, controller and
+/// settings, its file and text) read from a scene file, with the file's `[meta]` and the
+/// overrides applied. Dereferences to its `Setup`, which is what the run loop takes.
 #[derive(Clone, Debug)]
 pub struct Scene {
-    /// The scene file.
-    pub path: PathBuf,
-    /// The file's text as read (overrides not applied), stored in recordings.
-    pub text: String,
+    /// What runs.
+    pub setup: Setup,
     /// The overrides applied on top of the file.
     pub overrides: Vec<Override>,
     /// `[meta]`.
     pub meta: Meta,
-    /// Title for summaries and viewers (`meta.title`).
-    pub title: String,
-    /// `[simulation]`.
-    pub settings: Settings,
-    /// The multibody model.
-    pub model: Model,
-    /// Initial state (time zero).
-    pub initial: State,
-    /// The controller's settings.
-    pub controller: ControllerConfig,
-    /// Shapes the controller switches (canes); they start switched off.
-    pub switchable: Vec<usize>,
-    /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
-    pub coordinates: Vec<String>,
+    /// What the scene's source leaves out or expresses otherwise, one sentence each: the
+    /// text's `# notice: …` lines (written by [`crate::import_mjcf`]).
+    pub notices: Vec<String>,
 }
 
-impl Scene {
-    /// The stepper's settings for this scene.
-    pub fn step_settings(&self) -> StepSettings {
-        StepSettings {
-            dt: self.settings.dt,
-            strict: self.settings.strict,
-            max_speed: self.settings.max_speed,
-            warm_start: self.settings.warm_start,
-            ..StepSettings::default()
-        }
+impl Deref for Scene {
+    type Target = Setup;
+
+    fn deref(&self) -> &Setup {
+        &self.setup
     }
 }
 
+impl DerefMut for Scene {
+    fn deref_mut(&mut self) -> &mut Setup {
+        &mut self.setup
+    }
+}
+
+/// The start of a line of a scene's text that is a notice ([`Scene::notices`]).
+pub(crate) const NOTICE: &str = "# notice: ";
+
 /// Reads and validates the scene file at `path` with `overrides` applied. Reads at most
-/// [`MAX_SCENE_BYTES`].
+/// [`MAX_SCENE_BYTES`]. A MuJoCo model (`.xml`, [`crate::is_mjcf`]) is imported into the
+/// equivalent scene first ([`crate::import_mjcf`]); errors in that scene name it
+/// `<path> (imported)`.
 pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    if crate::is_mjcf(path) {
+        let text = crate::import_mjcf(path)?;
+        let imported = PathBuf::from(format!("{} (imported)", path.display()));
+        let mut scene = parse(&text, &imported, overrides)?;
+        scene.path = path.to_path_buf();
+        return Ok(scene);
+    }
     let text = read_bounded(path, MAX_SCENE_BYTES)?;
     parse(&text, path, overrides)
 }
@@ -80,16 +84,35 @@ fn read_bounded(path: &Path, limit: u64) -> Result<String, SceneError> {
     })
 }
 
-/// Validates scene `text` (read from `path`, which names it in errors) with `overrides`.
-pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
-    let src = Source { path, text };
-    let mut root = Node::parse_document(text).map_err(|(message, span)| SceneError::Syntax {
-        location: src.locate_offset(span.map_or(0, |s| s.start)),
-        message,
-    })?;
+/// The document of scene `text` with `overrides` applied, before validation.
+fn overridden(src: Source<'_>, overrides: &[Override]) -> Result<Node, SceneError> {
+    let mut root =
+        Node::parse_document(src.text).map_err(|(message, span)| SceneError::Syntax {
+            location: src.locate_offset(span.map_or(0, |s| s.start)),
+            message,
+        })?;
     for ov in overrides {
         apply(&mut root, ov)?;
     }
+    Ok(root)
+}
+
+/// The document the reader validates: scene `text` (read from `path`) with `overrides`
+/// applied, as TOML values, for a front end that rebuilds the scene in its own terms
+/// (Python's `Scene.model`). Not validated beyond TOML syntax and the overrides' paths.
+pub fn document(
+    text: &str,
+    path: &Path,
+    overrides: &[Override],
+) -> Result<toml::Table, SceneError> {
+    let root = overridden(Source { path, text }, overrides)?;
+    Ok(root.to_toml_table())
+}
+
+/// Validates scene `text` (read from `path`, which names it in errors) with `overrides`.
+pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, SceneError> {
+    let src = Source { path, text };
+    let root = overridden(src, overrides)?;
     let top = Table::root(src, &root);
     top.allow_only(&[
         "meta",
@@ -129,7 +152,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
 
     let instances = shapes.iter().map(|s| s.instance.clone()).collect();
-    let gravity = Vec2::new(0.0, -settings.gravity);
+    let gravity = Vec2::new(settings.gravity_x, -settings.gravity);
     let mut builder = ModelBuilder::new(bodies, instances, terrain, springs, gravity, material)
         .map_err(|e| {
             // The scene's own checks come first; should the model still object, place
@@ -182,17 +205,24 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     init.finish()?;
     top.finish()?;
     Ok(Scene {
-        path: path.to_path_buf(),
-        text: text.to_string(),
+        setup: Setup {
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            title: meta.title.clone(),
+            settings,
+            model: Arc::new(model),
+            initial,
+            controller,
+            switchable,
+            coordinates,
+        },
         overrides: overrides.to_vec(),
-        title: meta.title.clone(),
         meta,
-        settings,
-        model,
-        initial,
-        controller,
-        switchable,
-        coordinates,
+        notices: text
+            .lines()
+            .filter_map(|l| l.strip_prefix(NOTICE))
+            .map(str::to_string)
+            .collect(),
     })
 }
 

@@ -54,6 +54,14 @@ const KEYS: &[(&str, KeyInfo)] = &[
     ),
     ("bodies.*.mass", info("mass", "kg", "kg")),
     (
+        "bodies.*.armature",
+        info("joint armature", "kg m² or kg", "kg m² or kg"),
+    ),
+    (
+        "simulation.gravity_x",
+        info("gravity along x", "m/s²", "m/s²"),
+    ),
+    (
         "bodies.*.inertia",
         info("moment of inertia", "kg m²", "kg m²"),
     ),

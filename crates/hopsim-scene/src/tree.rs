@@ -110,6 +110,30 @@ impl Node {
         })
     }
 
+    /// The value as a [`toml::Value`] (a date-time that TOML cannot read back becomes its
+    /// text).
+    pub fn to_toml(&self) -> toml::Value {
+        match &self.kind {
+            Kind::Str(s) => toml::Value::String(s.clone()),
+            Kind::Int(i) => toml::Value::Integer(*i),
+            Kind::Float(f) => toml::Value::Float(*f),
+            Kind::Bool(b) => toml::Value::Boolean(*b),
+            Kind::Datetime(d) => d
+                .parse()
+                .map_or_else(|_| toml::Value::String(d.clone()), toml::Value::Datetime),
+            Kind::Array(items) => toml::Value::Array(items.iter().map(Node::to_toml).collect()),
+            Kind::Table(_) => toml::Value::Table(self.to_toml_table()),
+        }
+    }
+
+    /// The entries of a table node as a [`toml::Table`] (empty for any other kind).
+    pub fn to_toml_table(&self) -> toml::Table {
+        self.entries()
+            .iter()
+            .map(|e| (e.key.clone(), e.node.to_toml()))
+            .collect()
+    }
+
     /// The entries of a table node (empty for any other kind).
     pub fn entries(&self) -> &[Entry] {
         match &self.kind {

@@ -213,7 +213,9 @@ fn turn_warning(model: &Model, ws: &Kinematics, mobility: &Mobility, dt: f64) ->
 /// A shape's smallest extent, m (none for a point).
 fn shape_size(shape: &Shape) -> f64 {
     match shape {
-        Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => *radius,
+        Shape::Circle { radius, .. }
+        | Shape::Arc { radius, .. }
+        | Shape::Capsule { radius, .. } => *radius,
         Shape::Ellipse { semi_x, semi_y, .. } => semi_x.min(*semi_y),
         Shape::Point { .. } => 0.0,
         Shape::Polygon { vertices } => {

@@ -240,6 +240,7 @@ fn error_is_located(e: &SceneError) {
         }
         SceneError::Override { text: arg, .. } => assert!(text.starts_with(arg.as_str())),
         SceneError::Io { .. } => panic!("parse cannot fail on I/O: {text}"),
+        SceneError::Import(_) => panic!("parse imports nothing: {text}"),
     }
 }
 

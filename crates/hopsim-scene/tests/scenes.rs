@@ -200,7 +200,7 @@ fn robbit_scenes_run_the_thesis_controls() {
 #[test]
 fn release_modes_and_their_timing_keys() {
     let release_of = |name: &str, overrides: &[&str]| -> Result<Release, String> {
-        match load(name, overrides)?.controller {
+        match load(name, overrides)?.setup.controller {
             ControllerConfig::MomentumImpulse(c) => Ok(c.release),
             other => panic!("{other:?}"),
         }
@@ -320,4 +320,51 @@ fn rest_on_ground_places_the_lowest_shape_on_the_terrain() {
     )
     .unwrap();
     assert!((s.initial.q[1] - (0.2 - 0.1 * 0.7_f64.cos())).abs() < 1e-12);
+}
+
+/// `document` gives the file with its overrides applied: written out as TOML and read
+/// without overrides, it makes the scene the file makes with them, for every bundled scene.
+#[test]
+fn the_overridden_document_reads_as_the_file_with_its_overrides() {
+    let overrides: Vec<Override> = ["simulation.duration=0.5", "environment.friction=0.7"]
+        .iter()
+        .map(|o| o.parse().unwrap())
+        .collect();
+    let mut count = 0;
+    for dir in ["scenes", "scenes/classic"] {
+        for entry in std::fs::read_dir(repo(dir)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let document = hopsim_scene::document(&text, &path, &overrides).unwrap();
+            let written = toml::to_string(&document).unwrap();
+            let a = hopsim_scene::parse(&text, &path, &overrides).unwrap();
+            let b = hopsim_scene::parse(&written, &path, &[]).unwrap();
+            assert_eq!(b.settings.duration, 0.5, "{}", path.display());
+            assert_eq!(
+                format!(
+                    "{:?}",
+                    (&a.meta, &a.settings, &a.model, &a.initial, &a.controller)
+                ),
+                format!(
+                    "{:?}",
+                    (&b.meta, &b.settings, &b.model, &b.initial, &b.controller)
+                ),
+                "{}",
+                path.display()
+            );
+            count += 1;
+        }
+    }
+    assert!(count >= 6, "{count} scenes");
+    // A bad override path is the error `parse` gives.
+    let bad: Override = "bodies.nobody.mass=1".parse().unwrap();
+    let text = std::fs::read_to_string(repo("scenes/robbit.toml")).unwrap();
+    let e = hopsim_scene::document(&text, Path::new("r.toml"), &[bad]).unwrap_err();
+    assert!(
+        e.to_string().starts_with("--set bodies.nobody.mass=1:"),
+        "{e}"
+    );
 }

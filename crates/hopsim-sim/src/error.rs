@@ -14,6 +14,10 @@ pub enum RunError {
     /// `1e308`): the run's results cannot be reported.
     #[error("the run's {figure} is {value}: a value overflowed, so the run has no result")]
     NotFinite { figure: &'static str, value: f64 },
+    /// A command of [`crate::Simulation::step_with`] that the model cannot carry out; the
+    /// step was not taken.
+    #[error("actuation refused: {0}")]
+    Actuation(#[from] hopsim_step::ActuationError),
     /// The user stopped the run (an observer saw Ctrl-C), at simulation time `t`.
     #[error("interrupted at t = {t:.6} s")]
     Interrupted { t: f64 },

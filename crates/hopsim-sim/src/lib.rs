@@ -8,7 +8,9 @@
 //! * [`Observer`]: what watches a run ([`StepView`] after every step).
 //! * [`RecordingObserver`]: frames and events to the recorders of `hopsim-record`.
 //! * [`PoincareSection`]: a stroboscopic section of a run and its period ([`Periodicity`]).
-//! * [`sweep`]: a scene run over a grid of overrides, in parallel.
+//! * [`Setup`]: what a simulation runs (a model, its start, its controller, its
+//!   [`Settings`]), however it was described; [`check_state`], [`check_start`]: a start
+//!   state checked against it.
 
 mod error;
 mod flight;
@@ -16,9 +18,10 @@ mod observer;
 mod periodicity;
 mod recording;
 mod run;
+mod setup;
 mod simulation;
+mod start;
 mod summary;
-mod sweep;
 
 pub use error::{panic_message, RunError};
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
@@ -26,11 +29,13 @@ pub use observer::{Observer, StepView, StopFlag};
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
 pub use run::{run, run_for};
+pub use setup::{
+    check_steps, Settings, Setup, TooManySteps, DEFAULT_MAX_STEPS, MAX_COORDINATE, MAX_MAGNITUDE,
+    MIN_DT,
+};
 pub use simulation::{Simulation, CREATED_ENERGY, IMPACT_STEPS, PANIC_AT_STEP};
+pub use start::{check_start, check_state, StartProblem, StateProblem, PENETRATION_TOL};
 pub use summary::{
     per_forward_metre, EnergySummary, ImpulseSummary, LcpSummary, Summary, WindowTotals,
     BALANCE_WARNING, IMPULSE_UNIT,
-};
-pub use sweep::{
-    grid_jobs, grid_points, sweep, GridAxis, Progress, SweepJob, SweepPoint, NO_PROGRESS,
 };

@@ -1,5 +1,6 @@
 //! Hands the run to recorders: frames at the recording rate, every event exactly.
 
+use crate::Setup;
 use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_model::JointKind;
@@ -8,11 +9,10 @@ use hopsim_record::{
     EnergySample, Event, EventKind, Frame, JointInfo, JointInfoKind, RecorderSet, RecordingInfo,
     Stop,
 };
-use hopsim_scene::Scene;
 use std::path::PathBuf;
 
 /// The static description of a scene for recorders.
-pub fn recording_info(scene: &Scene) -> RecordingInfo {
+pub fn recording_info(scene: &Setup) -> RecordingInfo {
     let model = &scene.model;
     RecordingInfo {
         scene: scene.title.clone(),
@@ -61,7 +61,7 @@ pub fn recording_info(scene: &Scene) -> RecordingInfo {
 
 /// The revolute and prismatic joints of `scene` (docs/physics.md §7): a prismatic joint's rail
 /// spans its limits, or without them the initial extension.
-fn joint_infos(scene: &Scene) -> Vec<JointInfo> {
+fn joint_infos(scene: &Setup) -> Vec<JointInfo> {
     let model = &scene.model;
     let point = |v: hopsim_model::Vec2| [v.x, v.y];
     model
@@ -116,12 +116,12 @@ pub struct RecordingObserver {
 impl RecordingObserver {
     /// Records every `round(1 / (rate Δt))`-th step (at least every step) and every step
     /// with an event, at the scene's `simulation.record_rate`.
-    pub fn new(recorders: RecorderSet, scene: &Scene) -> Self {
+    pub fn new(recorders: RecorderSet, scene: &Setup) -> Self {
         Self::with_rate(recorders, scene, scene.settings.record_rate)
     }
 
     /// [`RecordingObserver::new`] at `rate` frames per second of simulated time.
-    pub fn with_rate(recorders: RecorderSet, scene: &Scene, rate: f64) -> Self {
+    pub fn with_rate(recorders: RecorderSet, scene: &Setup, rate: f64) -> Self {
         let every = (1.0 / (rate * scene.settings.dt)).round().max(1.0) as u64;
         Self {
             recorders,

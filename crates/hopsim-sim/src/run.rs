@@ -2,14 +2,14 @@
 //! of a simulation already under way.
 
 use crate::summary::SummaryCollector;
+use crate::Setup;
 use crate::{Observer, RunError, Simulation, Summary};
-use hopsim_scene::Scene;
 use std::time::Instant;
 
 /// Runs `scene` for its duration, showing every step to `observer` (after the summary has
 /// seen it), and returns the run summary. On an error the observer has seen every step
 /// before it.
-pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<Summary, RunError> {
+pub fn run(scene: &Setup, observer: &mut dyn Observer) -> Result<Summary, RunError> {
     run_for(
         &mut Simulation::new(scene),
         scene.settings.duration,
@@ -24,11 +24,11 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<Summary, RunErr
 /// state and the scene's duration this is [`run`]. The LCP figures count every solve
 /// since the simulation (re)started.
 pub fn run_for(
-    sim: &mut Simulation<'_>,
+    sim: &mut Simulation,
     duration: f64,
     observer: &mut dyn Observer,
 ) -> Result<Summary, RunError> {
-    let scene = sim.scene();
+    let scene = sim.setup();
     let steps = (duration / scene.settings.dt).round() as u64;
     let mut summary = SummaryCollector::new(scene, sim.state(), duration);
     let started = Instant::now();

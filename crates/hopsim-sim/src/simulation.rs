@@ -1,34 +1,16 @@
 //! One step of a scene: controller → actuation → step → events → observers.
 
-use crate::{panic_message, FlightEvent, FlightTracker, Observer, RunError, StepView};
+use crate::{
+    panic_message, FlightEvent, FlightTracker, Observer, RunError, Setup, StateProblem, StepView,
+};
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{recorded_time, Event, EventKind};
-use hopsim_scene::{Scene, StateProblem};
 use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, StepRecord, Stepper};
-use std::ops::Deref;
 use std::sync::Arc;
 
-/// The scene a [`Simulation`] runs: borrowed, or shared with its other owners (a front end
-/// that keeps simulations apart from the scene's lifetime, such as the Python package).
-enum SceneRef<'s> {
-    Borrowed(&'s Scene),
-    Shared(Arc<Scene>),
-}
-
-impl Deref for SceneRef<'_> {
-    type Target = Scene;
-
-    fn deref(&self) -> &Scene {
-        match self {
-            SceneRef::Borrowed(scene) => scene,
-            SceneRef::Shared(scene) => scene,
-        }
-    }
-}
-
-/// A scene being simulated: the stepper, the controller and the state.
-pub struct Simulation<'s> {
-    scene: SceneRef<'s>,
+/// A [`Setup`] being simulated: the stepper, the controller and the state.
+pub struct Simulation {
+    setup: Arc<Setup>,
     stepper: Stepper,
     controller: Box<dyn Controller>,
     state: State,
@@ -70,20 +52,20 @@ fn panic_at_step() -> Option<u64> {
     std::env::var(PANIC_AT_STEP).ok()?.trim().parse().ok()
 }
 
-impl Simulation<'static> {
-    /// A simulation of a scene shared with other owners, at the scene's initial state.
-    pub fn shared(scene: Arc<Scene>) -> Self {
-        Self::with_scene(SceneRef::Shared(scene))
-    }
-}
-
-impl<'s> Simulation<'s> {
-    /// A simulation at the scene's initial state; switchable shapes start switched off.
-    pub fn new(scene: &'s Scene) -> Self {
-        Self::with_scene(SceneRef::Borrowed(scene))
+impl Simulation {
+    /// A simulation of `setup` at its initial state; switchable shapes start switched off.
+    /// The setup is copied (its model is shared: an `Arc`); a scene is a setup.
+    pub fn new(setup: &Setup) -> Self {
+        Self::shared(Arc::new(setup.clone()))
     }
 
-    fn with_scene(scene: SceneRef<'s>) -> Self {
+    /// A simulation of a setup shared with other owners (many simulations of one setup, a
+    /// front end that keeps them apart from its lifetime), at the setup's initial state.
+    pub fn shared(setup: Arc<Setup>) -> Self {
+        Self::with_setup(setup)
+    }
+
+    fn with_setup(scene: Arc<Setup>) -> Self {
         let model = &scene.model;
         let mut stepper = Stepper::new(model, scene.step_settings());
         let mut shapes_active = vec![true; model.shapes().len()];
@@ -105,7 +87,7 @@ impl<'s> Simulation<'s> {
         let contact_count = model.contact_count();
         let flight = FlightTracker::starting(stepper.record().min_gap);
         Self {
-            scene,
+            setup: scene,
             controller,
             stepper,
             state,
@@ -125,21 +107,21 @@ impl<'s> Simulation<'s> {
         }
     }
 
-    /// The scene being simulated.
-    pub fn scene(&self) -> &Scene {
-        &self.scene
+    /// What is being simulated.
+    pub fn setup(&self) -> &Setup {
+        &self.setup
     }
 
     /// Restarts the run at `state` (time, `q`, `u`): the stepper starts anew there (its
     /// step count, energy ledger and LCP statistics restart), flight phases are counted
     /// afresh; the controller and the shapes switched on stay as they are. `state` is
-    /// checked as a scene's `[initial]` is: its values ([`hopsim_scene::check_state`]) and
-    /// its geometry ([`hopsim_scene::check_start`]: no active shape inside the terrain or
+    /// checked as a scene's `[initial]` is: its values ([`crate::check_state`]) and
+    /// its geometry ([`crate::check_start`]: no active shape inside the terrain or
     /// another body, no joint past a stop). On an error nothing changes.
     pub fn set_state(&mut self, state: State) -> Result<(), StateProblem> {
-        hopsim_scene::check_state(&self.scene, &state)?;
+        crate::check_state(&self.setup, &state)?;
         let inactive: Vec<bool> = self.shapes_active.iter().map(|a| !a).collect();
-        hopsim_scene::check_start(&self.scene.model, &state, &inactive)?;
+        crate::check_start(&self.setup.model, &state, &inactive)?;
         self.restart_at(state);
         Ok(())
     }
@@ -148,20 +130,20 @@ impl<'s> Simulation<'s> {
     /// values are checked, since the time-stepping leaves contacts and stops in load
     /// slightly penetrated (no position correction, docs/physics.md §4.6).
     pub fn restore_state(&mut self, state: State) -> Result<(), StateProblem> {
-        hopsim_scene::check_state(&self.scene, &state)?;
+        crate::check_state(&self.setup, &state)?;
         self.restart_at(state);
         Ok(())
     }
 
     fn restart_at(&mut self, state: State) {
         self.state = state;
-        self.stepper.start(&self.scene.model, &self.state);
+        self.stepper.start(&self.setup.model, &self.state);
         self.actuation.clear();
         self.events.clear();
         self.flight = FlightTracker::starting(self.stepper.record().min_gap);
         self.loaded = !self.flight.airborne();
         self.was_loaded.fill(false);
-        self.friction_indeterminate = Onsets::new(self.scene.model.contact_count());
+        self.friction_indeterminate = Onsets::new(self.setup.model.contact_count());
     }
 
     /// Keeps the stepper's energy account or not ([`Stepper::set_ledger`]; on by default):
@@ -236,14 +218,14 @@ impl<'s> Simulation<'s> {
 
     /// The scene's controller, then the step.
     fn control_and_advance(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
-        let model = &self.scene.model;
+        let model = &self.setup.model;
         self.actuation.clear();
         self.control_events.clear();
         self.events.clear();
         let input = ControlInput {
             model,
             state: &self.state,
-            dt: self.scene.settings.dt,
+            dt: self.setup.settings.dt,
             kinematics: self.stepper.kinematics(),
             in_contact: self.loaded,
             shapes_active: &self.shapes_active,
@@ -256,7 +238,8 @@ impl<'s> Simulation<'s> {
     /// Takes one step with `actuation` and `events` (brakes, shape switches) given by the
     /// caller in place of the scene's controller, which is not called in this step (its
     /// own state does not advance). A brake event names the lock of `actuation.locks` it
-    /// engages, as the controllers' do. Body and shape indices must exist in the model.
+    /// engages, as the controllers' do. Commands the model cannot carry out (see
+    /// [`hopsim_step::ActuationError`]) are refused before the step: [`RunError::Actuation`].
     /// Reuses the simulation's buffers: no allocation once they have grown to the
     /// commands' sizes.
     pub fn step_with(
@@ -267,6 +250,11 @@ impl<'s> Simulation<'s> {
     ) -> Result<(), RunError> {
         // Field by field into the kept buffers (no allocation); the pattern names every
         // field, so a new kind of command cannot be left out silently.
+        let model = &self.setup.model;
+        actuation.validate(model)?;
+        for e in events {
+            e.validate(model)?;
+        }
         let Actuation {
             torques,
             joint_forces,
@@ -286,7 +274,7 @@ impl<'s> Simulation<'s> {
 
     /// The step itself, after the actuation and the control events are set.
     fn advance(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
-        let model = &self.scene.model;
+        let model = &self.setup.model;
         let (t0, step0) = (self.state.t, self.stepper.record().step);
         for ev in &self.control_events {
             if let ControlEvent::ShapeSwitch { shape, active } = *ev {
@@ -369,7 +357,7 @@ impl<'s> Simulation<'s> {
             }
             std::mem::swap(&mut self.was_loaded, &mut self.loaded_now);
         }
-        impacts_creating_energy(model, record, self.scene.settings.dt, &mut self.events);
+        impacts_creating_energy(model, record, self.setup.settings.dt, &mut self.events);
         self.friction_indeterminate
             .events(model, record, &mut self.events);
         let (step, min_gap) = (record.step, record.min_gap);
@@ -413,7 +401,7 @@ impl<'s> Simulation<'s> {
     /// What observers see of the last step (or of the initial state before any).
     pub fn view(&self) -> StepView<'_> {
         StepView {
-            model: &self.scene.model,
+            model: &self.setup.model,
             state: &self.state,
             kinematics: self.stepper.kinematics(),
             record: self.stepper.record(),

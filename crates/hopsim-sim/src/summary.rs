@@ -1,10 +1,10 @@
 //! The run summary of docs/physics.md §6 (distance, speed, hops, impulses, energy, LCP), made of
 //! what an observer sees of every step.
 
+use crate::Setup;
 use crate::{Observer, RunError, StepView};
 use hopsim_model::{Kinematics, Model};
 use hopsim_record::{EnergySample, EventKind};
-use hopsim_scene::Scene;
 use hopsim_step::{LcpStats, State};
 use serde::Serialize;
 
@@ -132,7 +132,7 @@ pub(crate) struct SummaryCollector {
 impl SummaryCollector {
     /// A summary of `duration` seconds of a run of `scene` that starts at `start`: the
     /// speed window is the last `summary.speed_window` seconds of that span.
-    pub(crate) fn new(scene: &Scene, start: &State, duration: f64) -> Self {
+    pub(crate) fn new(scene: &Setup, start: &State, duration: f64) -> Self {
         let s = &scene.settings;
         let x_start = com_x(&scene.model, start);
         let window_start = start.t + (duration - s.speed_window);

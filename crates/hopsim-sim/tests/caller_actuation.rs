@@ -31,7 +31,7 @@ impl Observer for LastEvents {
 fn a_callers_actuation_acts_as_the_controllers() {
     let scene = scene("robbit.toml", &["simulation.duration=2.0"]);
     let mut by_controller = Simulation::new(&scene);
-    let mut by_caller = Simulation::shared(Arc::new(scene.clone()));
+    let mut by_caller = Simulation::shared(Arc::new(scene.setup.clone()));
     let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
     let (mut seen_a, mut seen_b) = (LastEvents::default(), LastEvents::default());
     let mut brakes = 0;

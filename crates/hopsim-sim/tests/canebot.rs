@@ -10,9 +10,9 @@ use common::{first_second, repo, run, scene};
 use hopsim_control::{shape_gap, CaneMode, ControllerConfig, Pulse, PulseConfig};
 use hopsim_model::{Kinematics, Model, Vec2};
 use hopsim_record::EventKind;
+use hopsim_record::TraceTolerance;
 use hopsim_scene::Scene;
 use hopsim_sim::{Observer, PeriodicityOptions, PoincareSection, RunError, Simulation, StepView};
-use hopsim_step::TraceTolerance;
 use nalgebra::DVector;
 
 fn pulse_config(scene: &Scene) -> &PulseConfig {

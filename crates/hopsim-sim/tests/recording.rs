@@ -1,10 +1,10 @@
 //! A run's MCAP recording read back matches the simulation's own records: every recorded
 //! state, every contact percussion at the recorded steps, and every event.
 
+use hopsim_record::{ImpulseTrace, TraceTolerance};
 use hopsim_record::{McapRecorder, McapRecording, RecorderSet};
 use hopsim_scene::Override;
 use hopsim_sim::{recording_info, Observer, RecordingObserver, RunError, StepView};
-use hopsim_step::{ImpulseTrace, TraceTolerance};
 use std::path::Path;
 
 /// What the simulation itself produced, step by step.

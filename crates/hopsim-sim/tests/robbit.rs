@@ -5,8 +5,8 @@ mod common;
 
 use common::{first_second, repo, run, scene};
 use hopsim_record::EventKind;
+use hopsim_record::TraceTolerance;
 use hopsim_sim::{Observer, RunError, StepView};
-use hopsim_step::TraceTolerance;
 
 /// Velocities before each step, to look at what a step changed.
 #[derive(Default)]

@@ -1,6 +1,6 @@
 //! What a controller asks of one step: torques, impulses and velocity locks.
 
-use hopsim_model::Vec2;
+use hopsim_model::{Model, Vec2};
 
 /// A torque on a body, with the opposite torque on a reaction body (a motor between two
 /// bodies) or on nothing (an external torque).
@@ -66,4 +66,120 @@ impl Actuation {
         self.impulses.clear();
         self.locks.clear();
     }
+}
+
+/// A command the model cannot carry out: it names a body or shape that does not exist, a joint
+/// where there is none, or a lock of a body with itself; or its value is not finite.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ActuationError {
+    #[error("{command} names body {body}; the model has {bodies} bodies")]
+    NoSuchBody {
+        command: &'static str,
+        body: usize,
+        bodies: usize,
+    },
+    #[error("{command} names shape {shape}; the model has {shapes} shapes")]
+    NoSuchShape {
+        command: &'static str,
+        shape: usize,
+        shapes: usize,
+    },
+    #[error("joint_force names body {0}, which has no joint")]
+    NoJoint(usize),
+    #[error("a lock needs two bodies; both are {0}")]
+    SameBody(usize),
+    #[error("{command} on body {body} is {value}: not a finite number")]
+    NotFinite {
+        command: &'static str,
+        body: usize,
+        value: f64,
+    },
+}
+
+impl Actuation {
+    /// Checks every command against `model` (see [`ActuationError`]); the stepper relies on
+    /// this (an index out of range would be a panic).
+    pub fn validate(&self, model: &Model) -> Result<(), ActuationError> {
+        let body = |command, b| check_body(model, command, b);
+        for t in &self.torques {
+            body("torque", t.body)?;
+            t.reaction.map_or(Ok(()), |r| body("torque", r))?;
+            check_finite("torque", t.body, t.torque)?;
+        }
+        for f in &self.joint_forces {
+            body("joint_force", f.body)?;
+            if model.bodies()[f.body].joint.is_none() {
+                return Err(ActuationError::NoJoint(f.body));
+            }
+            check_finite("joint_force", f.body, f.force)?;
+        }
+        for i in &self.impulses {
+            match *i {
+                ImpulseCommand::Point {
+                    body: b,
+                    offset,
+                    impulse,
+                } => {
+                    body("impulse", b)?;
+                    for v in [offset.x, offset.y, impulse.x, impulse.y] {
+                        check_finite("impulse", b, v)?;
+                    }
+                }
+                ImpulseCommand::Rotational {
+                    body: b,
+                    reaction,
+                    impulse,
+                } => {
+                    body("impulse", b)?;
+                    reaction.map_or(Ok(()), |r| body("impulse", r))?;
+                    check_finite("impulse", b, impulse)?;
+                }
+            }
+        }
+        for &(b, other) in &self.locks {
+            check_lock(model, "lock", b, other)?;
+        }
+        Ok(())
+    }
+}
+
+/// `body` is one of `model`'s bodies.
+fn check_body(model: &Model, command: &'static str, body: usize) -> Result<(), ActuationError> {
+    let bodies = model.bodies().len();
+    if body < bodies {
+        Ok(())
+    } else {
+        Err(ActuationError::NoSuchBody {
+            command,
+            body,
+            bodies,
+        })
+    }
+}
+
+fn check_finite(command: &'static str, body: usize, value: f64) -> Result<(), ActuationError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(ActuationError::NotFinite {
+            command,
+            body,
+            value,
+        })
+    }
+}
+
+/// A lock (or brake) `command` of `body` to `other`: two different bodies of `model`.
+pub fn check_lock(
+    model: &Model,
+    command: &'static str,
+    body: usize,
+    other: usize,
+) -> Result<(), ActuationError> {
+    check_body(model, command, body)?;
+    check_body(model, command, other)?;
+    if body == other {
+        return Err(ActuationError::SameBody(body));
+    }
+    Ok(())
 }

@@ -11,15 +11,13 @@ mod linalg;
 mod record;
 mod state;
 mod stepper;
-mod trace;
 
-pub use actuation::{Actuation, ImpulseCommand, JointForceCommand, TorqueCommand};
+pub use actuation::{
+    check_lock, Actuation, ActuationError, ImpulseCommand, JointForceCommand, TorqueCommand,
+};
 pub use record::{
     ContactRecord, ContactState, EnergyLedger, LcpStats, LimitRecord, LockRecord, Resolution,
     StepRecord, STATE_MARGIN,
 };
 pub use state::State;
 pub use stepper::{StepError, StepSettings, Stepper, DEPENDENT_ROWS};
-pub use trace::{
-    ImpulseSample, ImpulseTrace, TraceDifference, TraceError, TraceTolerance, MAX_TRACE_BYTES,
-};

@@ -10,7 +10,10 @@ use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver, SolveMethod, WarmStart};
 use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
+mod layout;
 mod pairs;
+
+use layout::{at, Layout};
 
 /// Settings of the stepper.
 #[derive(Clone, Debug)]
@@ -205,10 +208,15 @@ impl Stepper {
         let dampers = model.damper_capacity();
         // `M + Δt/2 C` is diagonal only without dampers.
         let diagonal = model.mass_matrix_is_diagonal() && dampers == 0;
-        lcp.reserve(3 * k + limits);
+        // The largest problem: every contact and every stop closed.
+        let most = Layout {
+            contacts: k,
+            limits,
+        };
+        lcp.reserve(most.size());
         Self {
             lcp,
-            warm: WarmStart::with_capacity(3 * k + limits),
+            warm: WarmStart::with_capacity(most.size()),
             settings,
             t_start: 0.0,
             enabled: vec![true; k],
@@ -228,7 +236,7 @@ impl Stepper {
             applied: vector(n),
             impulse: vector(n),
             force: vector(n),
-            solved: vector((2 * k + limits + 1) * n),
+            solved: vector(most.solved_rows() * n),
             u_tilde: vector(n),
             q_mid: vector(n),
             u_start: vector(n),
@@ -261,8 +269,8 @@ impl Stepper {
             lambda_limit: vector(limits),
             limit_mobility: vector(limits),
             limit_locked: vec![false; limits],
-            lcp_a: DMatrix::zeros(3 * k + limits, 3 * k + limits),
-            lcp_b: DVector::zeros(3 * k + limits),
+            lcp_a: DMatrix::zeros(most.size(), most.size()),
+            lcp_b: DVector::zeros(most.size()),
             record: StepRecord {
                 contacts: Vec::with_capacity(k),
                 pair_contacts: Vec::with_capacity(model.pairs().len()),
@@ -437,6 +445,15 @@ impl Stepper {
         // Stage 9: energy ledger and gaps (observers only).
         self.ledger::<N>(model, actuation);
         Ok(())
+    }
+
+    /// The layout of this step's problem with `k` closed contacts and the closed stops.
+    #[inline(always)]
+    fn layout(&self, k: usize) -> Layout {
+        Layout {
+            contacts: k,
+            limits: self.active_limits.len(),
+        }
     }
 
     /// Stage 1, docs/physics.md §4.1 step 1: the midpoint `q^M = q^A + Δt/2 u^A`; keeps `u^A`
@@ -620,8 +637,8 @@ impl Stepper {
     #[inline]
     fn free_velocity<const N: usize>(&mut self, k: usize) {
         let (n, dt) = (dof::<N>(self.n), self.settings.dt);
-        let l = self.active_limits.len();
-        let solved = &mut self.solved[..(2 * k + l + 1) * n];
+        let layout = self.layout(k);
+        let solved = &mut self.solved[..layout.solved_rows() * n];
         let (first, rest) = solved.split_at_mut(n);
         // Into `force` and the first right-hand side in one pass (no reload of `force`).
         let (force, h, impulse) = (&mut self.force[..n], &self.h[..n], &self.impulse[..n]);
@@ -635,7 +652,7 @@ impl Stepper {
         for (to, from) in [
             (normals, &self.w_n[..k * n]),
             (tangents, &self.w_t[..k * n]),
-            (limits, &self.w_limit[..l * n]),
+            (limits, &self.w_limit[..layout.limits * n]),
         ] {
             for (to, from) in to.chunks_exact_mut(n).zip(from.chunks_exact(n)) {
                 to.copy_from_slice(from);
@@ -645,7 +662,7 @@ impl Stepper {
         if self.locks.count > 0 {
             // The stops' mobility `w G w` before the locks, to tell a stop whose velocity
             // they fix (see `limit_rows`).
-            let stops = &solved[(2 * k + 1) * n..];
+            let stops = &solved[layout.solved_limit(0) * n..];
             for (r, row) in stops.chunks_exact(n).enumerate() {
                 self.limit_mobility[r] = dot(&self.w_limit[r * n..(r + 1) * n], row);
             }
@@ -677,49 +694,54 @@ impl Stepper {
         self.record.lcp_failed = false;
         self.record.resolution = Resolution::default();
         let n = dof::<N>(self.n);
-        let k = self.active.len();
-        let l = self.active_limits.len();
+        let layout = self.layout(self.active.len());
+        let (k, l) = (layout.contacts, layout.limits);
         if k + l == 0 {
             return Ok(());
         }
-        let size = 3 * k + l;
+        let size = layout.size();
         // A (column-major, leading dimension `ld`) and b of docs/physics.md §4.3.
         let ld = self.lcp_a.nrows();
         // Every entry of the `size × size` block is written once below (the zeros too), so
         // nothing is cleared first.
-        let scale = self.contact_friction::<N>(model, k);
+        let scale = self.contact_friction::<N>(model, layout);
         let a = self.lcp_a.as_mut_slice();
         let b = self.lcp_b.as_mut_slice();
         for r in 0..k {
             let mat_r = &model.material(self.active[r]);
             let mu_r = self.friction[r];
             let (w_n, w_t) = (row(&self.w_n, n, r), row(&self.w_t, n, r));
+            let (rn, rs, rc) = (layout.normal(r), layout.sliding(r), layout.cone(r));
             for c in 0..k {
                 let mu_c = self.friction[c];
-                let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
+                let (gw_n, gw_t) = (
+                    row(&self.solved, n, layout.solved_normal(c)),
+                    row(&self.solved, n, layout.solved_tangent(c)),
+                );
                 let g_nn = dot(w_n, gw_n);
                 let g_nt = dot(w_n, gw_t);
                 let g_tn = dot(w_t, gw_n);
                 let g_tt = dot(w_t, gw_t);
-                a[c * ld + r] = g_nn - g_nt * mu_c;
-                a[(k + c) * ld + r] = g_nt;
-                a[c * ld + k + r] = g_tn - g_tt * mu_c;
-                a[(k + c) * ld + k + r] = g_tt;
+                let (cn, cs, cc) = (layout.normal(c), layout.sliding(c), layout.cone(c));
+                a[at(ld, rn, cn)] = g_nn - g_nt * mu_c;
+                a[at(ld, rn, cs)] = g_nt;
+                a[at(ld, rs, cn)] = g_tn - g_tt * mu_c;
+                a[at(ld, rs, cs)] = g_tt;
                 // The rows and columns of `ξ_L`: only contact `r`'s own are non-zero, scaled
                 // by `s` (unknown `ξ_L / s`, row `s Λ_L`, docs/physics.md §4.3).
                 let own = r == c;
-                a[(2 * k + c) * ld + r] = 0.0;
-                a[(2 * k + c) * ld + k + r] = if own { scale } else { 0.0 };
-                a[c * ld + 2 * k + r] = if own { 2.0 * mu_r * scale } else { 0.0 };
-                a[(k + c) * ld + 2 * k + r] = if own { -scale } else { 0.0 };
-                a[(2 * k + c) * ld + 2 * k + r] = 0.0;
+                a[at(ld, rn, cc)] = 0.0;
+                a[at(ld, rs, cc)] = if own { scale } else { 0.0 };
+                a[at(ld, rc, cn)] = if own { 2.0 * mu_r * scale } else { 0.0 };
+                a[at(ld, rc, cs)] = if own { -scale } else { 0.0 };
+                a[at(ld, rc, cc)] = 0.0;
             }
-            b[r] = dot(w_n, &self.u_tilde[..n]) + mat_r.restitution_normal * self.gamma_n[r];
-            b[k + r] = dot(w_t, &self.u_tilde[..n]) + mat_r.restitution_tangent * self.gamma_t[r];
-            b[2 * k + r] = 0.0;
+            b[rn] = dot(w_n, &self.u_tilde[..n]) + mat_r.restitution_normal * self.gamma_n[r];
+            b[rs] = dot(w_t, &self.u_tilde[..n]) + mat_r.restitution_tangent * self.gamma_t[r];
+            b[rc] = 0.0;
         }
         if l > 0 {
-            self.limit_rows::<N>(model, k, l);
+            self.limit_rows::<N>(model, layout);
         }
         let (a, b) = (
             self.lcp_a.view((0, 0), (size, size)),
@@ -749,16 +771,17 @@ impl Stepper {
             // its tolerance (`rel_tol` of its scale); projecting the percussions onto the
             // Coulomb cone (Λ_N ≥ 0, |Λ_T| ≤ μ Λ_N) moves them within that tolerance and
             // keeps friction from doing positive work through round-off (e.g. at μ = 0).
+            let (z, w) = (&solution.z, &solution.w);
             for c in 0..k {
                 let mu = self.friction[c];
-                let normal = solution.z[c].max(0.0);
-                let limit = mu * normal;
-                self.lambda_n[c] = normal;
-                self.lambda_t[c] = (solution.z[k + c] - mu * solution.z[c]).clamp(-limit, limit);
-                self.slip[c] = solution.w[k + c] - scale * solution.z[2 * k + c];
+                let (normal, sliding) = (layout.normal(c), layout.sliding(c));
+                let limit = mu * z[normal].max(0.0);
+                self.lambda_n[c] = z[normal].max(0.0);
+                self.lambda_t[c] = (z[sliding] - mu * z[normal]).clamp(-limit, limit);
+                self.slip[c] = w[sliding] - scale * z[layout.cone(c)];
             }
             for r in 0..l {
-                self.lambda_limit[r] = solution.z[3 * k + r].max(0.0);
+                self.lambda_limit[r] = z[layout.limit(r)].max(0.0);
             }
             return Ok(());
         }
@@ -773,7 +796,7 @@ impl Stepper {
                 status: solution.status.as_str(),
             });
         }
-        self.solve_frictionless_lcp(k, step, t)
+        self.solve_frictionless_lcp(layout, step, t)
     }
 
     /// Each closed contact's friction coefficient in this step (docs/physics.md §4.8): its
@@ -788,12 +811,15 @@ impl Stepper {
     /// diagonal Delassus entry `G_NN`, `G_TT` of the closed contacts (1 where there is none),
     /// so that every row of the LCP is a velocity and its certificate bounds the cone's
     /// violation in the same units as the contact velocities.
-    fn contact_friction<const N: usize>(&mut self, model: &Model, k: usize) -> f64 {
+    fn contact_friction<const N: usize>(&mut self, model: &Model, layout: Layout) -> f64 {
         let n = dof::<N>(self.n);
         let mut scale: f64 = 0.0;
-        for c in 0..k {
+        for c in 0..layout.contacts {
             let (w_n, w_t) = (row(&self.w_n, n, c), row(&self.w_t, n, c));
-            let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
+            let (gw_n, gw_t) = (
+                row(&self.solved, n, layout.solved_normal(c)),
+                row(&self.solved, n, layout.solved_tangent(c)),
+            );
             let (g_nn, g_nt, g_tt) = (dot(w_n, gw_n), dot(w_n, gw_t), dot(w_t, gw_t));
             let dependent = g_nn * g_tt - g_nt * g_nt <= DEPENDENT_ROWS * g_nn * g_tt;
             self.dependent[c] = dependent;
@@ -814,70 +840,88 @@ impl Stepper {
     /// The rows and columns of the `l` closed joint stops in the LCP of §4.3 (docs/physics.md
     /// §7): unknowns `Λ_J` after `(Λ_N, Λ_R, ξ_L)`, frictionless normal rows
     /// `ξ_J = w_Jᵀ u^E + ε γ_J^A ⟂ Λ_J`, with `u^E = ũ + G (W_N Λ_N + W_T Λ_T + W_J Λ_J)`.
-    fn limit_rows<const N: usize>(&mut self, model: &Model, k: usize, l: usize) {
+    fn limit_rows<const N: usize>(&mut self, model: &Model, layout: Layout) {
         let n = dof::<N>(self.n);
         let ld = self.lcp_a.nrows();
         let a = self.lcp_a.as_mut_slice();
         let b = self.lcp_b.as_mut_slice();
-        let off = 3 * k;
-        for r in 0..l {
+        for r in 0..layout.limits {
             let w_j = row(&self.w_limit, n, r);
-            let gw_j = row(&self.solved, n, 1 + 2 * k + r);
-            for c in 0..k {
+            let gw_j = row(&self.solved, n, layout.solved_limit(r));
+            let rj = layout.limit(r);
+            for c in 0..layout.contacts {
                 let mu_c = self.friction[c];
-                let (gw_n, gw_t) = (row(&self.solved, n, 1 + c), row(&self.solved, n, 1 + k + c));
+                let (gw_n, gw_t) = (
+                    row(&self.solved, n, layout.solved_normal(c)),
+                    row(&self.solved, n, layout.solved_tangent(c)),
+                );
+                let (cn, cs, cc) = (layout.normal(c), layout.sliding(c), layout.cone(c));
                 // The stop's row: Λ_T = Λ_R − μ Λ_N enters through the Λ_N and Λ_R columns.
                 let g_jt = dot(w_j, gw_t);
-                a[c * ld + off + r] = dot(w_j, gw_n) - g_jt * mu_c;
-                a[(k + c) * ld + off + r] = g_jt;
+                a[at(ld, rj, cn)] = dot(w_j, gw_n) - g_jt * mu_c;
+                a[at(ld, rj, cs)] = g_jt;
                 // The stop's column in the contacts' normal and tangential rows.
-                a[(off + r) * ld + c] = dot(row(&self.w_n, n, c), gw_j);
-                a[(off + r) * ld + k + c] = dot(row(&self.w_t, n, c), gw_j);
+                a[at(ld, cn, rj)] = dot(row(&self.w_n, n, c), gw_j);
+                a[at(ld, cs, rj)] = dot(row(&self.w_t, n, c), gw_j);
                 // No `ξ_L` in the stop's row, no stop in the friction-cone rows.
-                a[(2 * k + c) * ld + off + r] = 0.0;
-                a[(off + r) * ld + 2 * k + c] = 0.0;
+                a[at(ld, rj, cc)] = 0.0;
+                a[at(ld, cc, rj)] = 0.0;
             }
-            for c in 0..l {
-                a[(off + c) * ld + off + r] = dot(w_j, row(&self.solved, n, 1 + 2 * k + c));
+            for c in 0..layout.limits {
+                let gw_c = row(&self.solved, n, layout.solved_limit(c));
+                a[at(ld, rj, layout.limit(c))] = dot(w_j, gw_c);
             }
             let restitution = model.limits()[self.active_limits[r]].restitution;
-            b[off + r] = dot(w_j, &self.u_tilde) + restitution * self.gamma_limit[r];
+            b[rj] = dot(w_j, &self.u_tilde) + restitution * self.gamma_limit[r];
             // A stop whose velocity this step's locks fix (a braked joint: its mobility
             // gone with the projection) cannot move it: it takes no percussion, whatever its
             // restitution asks (docs/physics.md §4.4).
-            let own = a[(off + r) * ld + off + r];
+            let own = a[at(ld, rj, rj)];
             self.limit_locked[r] =
                 self.locks.count > 0 && own <= DEPENDENT_ROWS * self.limit_mobility[r];
             if self.limit_locked[r] {
-                b[off + r] = b[off + r].max(0.0);
+                b[rj] = b[rj].max(0.0);
             }
         }
     }
 
     /// Fallback after an uncertified frictional solve (see [`Stepper`]): the normal-contact
     /// LCP `(W_Nᵀ G W_N) Λ_N + W_Nᵀ ũ + ε_N γ_N^A ⟂ Λ_N` with friction dropped for this step.
-    fn solve_frictionless_lcp(&mut self, k: usize, step: u64, t: f64) -> Result<(), StepError> {
+    fn solve_frictionless_lcp(
+        &mut self,
+        layout: Layout,
+        step: u64,
+        t: f64,
+    ) -> Result<(), StepError> {
         let n = self.n;
-        let l = self.active_limits.len();
+        let (k, l) = (layout.contacts, layout.limits);
         // Normal-type rows: the contacts' `w_N`, then the stops' `w_J`; `G w` of each.
         let normal = |i: usize| {
             if i < k {
-                (row(&self.w_n, n, i), row(&self.solved, n, 1 + i))
+                (
+                    row(&self.w_n, n, i),
+                    row(&self.solved, n, layout.solved_normal(i)),
+                )
             } else {
                 (
                     row(&self.w_limit, n, i - k),
-                    row(&self.solved, n, 1 + k + i),
+                    row(&self.solved, n, layout.solved_limit(i - k)),
                 )
             }
         };
-        for r in 0..k + l {
-            for c in 0..k + l {
+        let size = layout.fallback_size();
+        for r in 0..size {
+            for c in 0..size {
                 self.lcp_a[(r, c)] = dot(normal(r).0, normal(c).1);
             }
         }
-        // The stops' right-hand sides follow the contacts' normal ones.
-        self.lcp_b.as_mut_slice().copy_within(3 * k..3 * k + l, k);
-        let size = k + l;
+        // The contacts' normal right-hand sides stay where they are; the stops' follow them.
+        if l > 0 {
+            let stops = layout.limit(0)..layout.limit(0) + l;
+            self.lcp_b
+                .as_mut_slice()
+                .copy_within(stops, layout.fallback_limit(0));
+        }
         let solution = self
             .lcp
             .solve(
@@ -904,12 +948,12 @@ impl Stepper {
             impulse: impulse_resolution(&solution.certificate, f64::INFINITY),
         };
         for c in 0..k {
-            self.lambda_n[c] = solution.z[c].max(0.0);
+            self.lambda_n[c] = solution.z[layout.normal(c)].max(0.0);
             self.lambda_t[c] = 0.0;
             self.slip[c] = f64::NAN;
         }
         for r in 0..l {
-            self.lambda_limit[r] = solution.z[k + r].max(0.0);
+            self.lambda_limit[r] = solution.z[layout.fallback_limit(r)].max(0.0);
         }
         Ok(())
     }
@@ -919,26 +963,18 @@ impl Stepper {
     #[inline]
     fn end_velocity<const N: usize>(&mut self, model: &Model, k: usize) {
         let n = dof::<N>(self.n);
+        let layout = self.layout(k);
         self.u_end[..n].copy_from_slice(&self.u_tilde[..n]);
         for c in 0..k {
-            axpy(
-                self.lambda_n[c],
-                row(&self.solved, n, 1 + c),
-                &mut self.u_end,
-            );
-            axpy(
-                self.lambda_t[c],
-                row(&self.solved, n, 1 + k + c),
-                &mut self.u_end,
-            );
+            let normal = row(&self.solved, n, layout.solved_normal(c));
+            axpy(self.lambda_n[c], normal, &mut self.u_end);
+            let tangent = row(&self.solved, n, layout.solved_tangent(c));
+            axpy(self.lambda_t[c], tangent, &mut self.u_end);
         }
-        let l = self.active_limits.len();
+        let l = layout.limits;
         for r in 0..l {
-            axpy(
-                self.lambda_limit[r],
-                row(&self.solved, n, 1 + 2 * k + r),
-                &mut self.u_end,
-            );
+            let stop = row(&self.solved, n, layout.solved_limit(r));
+            axpy(self.lambda_limit[r], stop, &mut self.u_end);
         }
         self.record.contacts.clear();
         self.record.pair_contacts.clear();
@@ -1167,8 +1203,9 @@ fn dof<const N: usize>(n: usize) -> usize {
 }
 
 /// Row `i` of a row-major matrix with rows of length `n`: the rows of `w_N`, `w_T` are
-/// those of the closed contacts; the rows of `solved` are `M⁻¹ (h Δt + …)`, then `G w_N` of each
-/// closed contact (`1 + c`), then `G w_T` of each (`1 + k + c`).
+/// those of the closed contacts, the rows of `w_limit` those of the closed stops; the rows
+/// of `solved` are numbered by [`Layout`] (`solved_normal`, `solved_tangent`,
+/// `solved_limit`).
 #[inline]
 fn row(data: &[f64], n: usize, i: usize) -> &[f64] {
     &data[i * n..(i + 1) * n]

@@ -4,12 +4,12 @@
 //! extrapolated (× 25).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use hopsim_analysis::fixed_points::{DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
-use hopsim_analysis::robbit::{Control, RobbitParams};
 use hopsim_studies::fixed_points::{fixed_points, FixedPointsParams, Sections};
 use hopsim_studies::progress::Silent;
 use hopsim_studies::robbit_gait::{rest_state, robbit_scene, StepperSettings};
 use hopsim_studies::run_summary::run_scene;
+use hopsim_theory::fixed_points::{DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
+use hopsim_theory::robbit::{Control, RobbitParams};
 use std::hint::black_box;
 
 fn fixed_point_gaits(c: &mut Criterion) {

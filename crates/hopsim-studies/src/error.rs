@@ -7,7 +7,7 @@ use std::path::PathBuf;
 pub enum StudyError {
     /// A reduced model rejected its parameters or failed numerically.
     #[error(transparent)]
-    Analysis(#[from] hopsim_analysis::AnalysisError),
+    Analysis(#[from] hopsim_theory::AnalysisError),
     /// A scene built by the study is invalid.
     #[error(transparent)]
     Scene(#[from] hopsim_scene::SceneError),
@@ -44,7 +44,7 @@ impl StudyError {
     pub fn is_invalid_input(&self) -> bool {
         matches!(
             self,
-            StudyError::Analysis(hopsim_analysis::AnalysisError::InvalidParameter { .. })
+            StudyError::Analysis(hopsim_theory::AnalysisError::InvalidParameter { .. })
                 | StudyError::Scene(_)
                 | StudyError::Record(_)
                 | StudyError::Input(_)

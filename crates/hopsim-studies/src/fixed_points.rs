@@ -20,12 +20,12 @@ use crate::robbit_gait::{
     convergence_to_prediction, simulate_from_rest, GaitTolerance, StepperSettings,
 };
 use crate::Result;
-use hopsim_analysis::error::{require_finite, require_positive};
-use hopsim_analysis::fixed_points::{
+use hopsim_theory::error::{require_finite, require_positive};
+use hopsim_theory::fixed_points::{
     find_fixed_point, FixedPoint, FixedPointGrid, GridPoint, SolverSettings,
 };
-use hopsim_analysis::robbit::{RobbitParams, SectionState};
-use hopsim_analysis::AnalysisError;
+use hopsim_theory::robbit::{RobbitParams, SectionState};
+use hopsim_theory::AnalysisError;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;

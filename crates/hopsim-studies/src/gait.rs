@@ -29,13 +29,13 @@ use crate::plot::{
 };
 use crate::report::{num, Report, ReportFile, TextTable};
 use crate::{Result, StudyError};
-use hopsim_analysis::numerics::linspace;
 use hopsim_control::ControllerConfig;
 use hopsim_io::CsvTable;
 use hopsim_model::{JointKind, Model};
 use hopsim_record::{Event, McapRecording, StateSample};
 use hopsim_scene::Scene;
 use hopsim_sim::{Observer, Periodicity, PeriodicityOptions, PoincareSection, RunError, StepView};
+use hopsim_theory::numerics::linspace;
 use serde::Serialize;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;

@@ -5,11 +5,11 @@
 use crate::plot::{LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use crate::report::{num, nums, opt_num, Report, ReportFile, TextTable};
 use crate::Result;
-use hopsim_analysis::error::require_finite;
-use hopsim_analysis::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel, TakeoffAngleFixedPoint};
-use hopsim_analysis::numerics::linspace;
-use hopsim_analysis::AnalysisError;
 use hopsim_io::CsvTable;
+use hopsim_theory::error::require_finite;
+use hopsim_theory::impulsive_wheel::{wrap_half_turn, ImpulsiveWheel, TakeoffAngleFixedPoint};
+use hopsim_theory::numerics::linspace;
+use hopsim_theory::AnalysisError;
 use serde::Serialize;
 use std::f64::consts::FRAC_PI_2;
 

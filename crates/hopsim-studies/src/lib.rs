@@ -1,5 +1,5 @@
 //! Studies of hopsim, above the run loop: each takes parameters, runs reduced models
-//! (`hopsim-analysis`) or simulations (`hopsim-sim`, the only run loop), and returns a
+//! (`hopsim-theory`) or simulations (`hopsim-sim`, the only run loop), and returns a
 //! serialisable [`Report`] with its tables, CSV files and figures. The command line and
 //! the Python package are thin front ends over these reports.
 //!

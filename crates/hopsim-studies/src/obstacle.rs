@@ -6,14 +6,14 @@ use crate::plot::{CategoryMap, LinePlot, Series, SeriesStyle, BLACK, PALETTE};
 use crate::progress::Progress;
 use crate::report::{num, nums, Report, ReportFile, TextTable};
 use crate::Result;
-use hopsim_analysis::grid::Progress as GridProgress;
-use hopsim_analysis::numerics::{linspace, logspace};
-use hopsim_analysis::obstacle::{
+use hopsim_io::CsvTable;
+use hopsim_theory::grid::CellDone;
+use hopsim_theory::numerics::{linspace, logspace};
+use hopsim_theory::obstacle::{
     allometric_radius, compare_strategies, region_map_allometric, region_map_inertia_froude,
     RegionCell, Strategy, StrategyComparison, Wheel,
 };
-use hopsim_analysis::AnalysisError;
-use hopsim_io::CsvTable;
+use hopsim_theory::AnalysisError;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -161,7 +161,7 @@ impl TimedMaps<'_> {
         name: String,
         label: &str,
         cells: usize,
-        map: impl FnOnce(GridProgress<'_>) -> hopsim_analysis::Result<Vec<RegionCell>>,
+        map: impl FnOnce(CellDone<'_>) -> hopsim_theory::Result<Vec<RegionCell>>,
     ) -> Result<Vec<RegionCell>> {
         let started = Instant::now();
         let cells = {

@@ -1,5 +1,5 @@
 //! Robbit in the time-stepper (docs/physics.md §4, §5.3): the cross-check of the reduced model
-//! of `hopsim_analysis::robbit` and `hopsim_analysis::fixed_points`.
+//! of `hopsim_theory::robbit` and `hopsim_theory::fixed_points`.
 //!
 //! [`robbit_scene`] is `scenes/robbit.toml` (Robbit's one model) with the parameters, the
 //! control and the start of a run set as overrides; [`simulate_from_rest`] runs it from rest
@@ -16,12 +16,12 @@
 //! on the locked pair, as in the reduced model.
 
 use crate::error::Result;
-use hopsim_analysis::fixed_points::FixedPoint;
-use hopsim_analysis::robbit::{Control, FlywheelAtTouchdown, RobbitParams, SectionState};
 use hopsim_record::EventKind;
 use hopsim_scene::{Override, Scene};
 use hopsim_sim::{Observer, RunError, Simulation, StepView};
 use hopsim_step::State;
+use hopsim_theory::fixed_points::FixedPoint;
+use hopsim_theory::robbit::{Control, FlywheelAtTouchdown, RobbitParams, SectionState};
 use nalgebra::DVector;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -200,7 +200,7 @@ pub fn simulate(
         ("torque", control.torque),
         ("impulse-limit", control.impulse_limit),
     ] {
-        hopsim_analysis::error::require_positive(name, value)?;
+        hopsim_theory::error::require_positive(name, value)?;
     }
     let scene = robbit_scene(p, control, settings, &initial)?;
     let mut sim = Simulation::new(&scene);

@@ -4,14 +4,14 @@
 //! Poincaré section of §5.4 for the pulse controller.
 
 use crate::report::Report;
-use hopsim_analysis::cube::Cube;
 use hopsim_control::ControllerConfig;
 use hopsim_model::Shape;
-use hopsim_scene::Scene;
+use hopsim_sim::Setup;
 use hopsim_sim::{
     per_forward_metre, Observer, Periodicity, PeriodicityOptions, PoincareSection, RunError,
     Simulation, Summary,
 };
+use hopsim_theory::cube::Cube;
 use serde::Serialize;
 use std::fmt;
 
@@ -53,7 +53,7 @@ pub struct RunReport {
 
 /// Runs `scene` for its duration, showing every step to `observer`, and returns its summary
 /// with the scene's sections.
-pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunReport, RunError> {
+pub fn run_scene(scene: &Setup, observer: &mut dyn Observer) -> Result<RunReport, RunError> {
     run_simulation(
         &mut Simulation::new(scene),
         scene.settings.duration,
@@ -65,13 +65,13 @@ pub fn run_scene(scene: &Scene, observer: &mut dyn Observer) -> Result<RunReport
 /// summary of that span with the scene's sections; for a simulation at its scene's
 /// initial state and the scene's duration this is [`run_scene`].
 pub fn run_simulation(
-    sim: &mut Simulation<'_>,
+    sim: &mut Simulation,
     duration: f64,
     observer: &mut dyn Observer,
 ) -> Result<RunReport, RunError> {
-    let mut section = gait_section(sim.scene(), sim.state().t);
+    let mut section = gait_section(sim.setup(), sim.state().t);
     let summary = hopsim_sim::run_for(sim, duration, &mut (&mut section, observer))?;
-    let scene = sim.scene();
+    let scene = sim.setup();
     Ok(RunReport {
         robbit: RobbitSummary::of(scene, &summary),
         gait: section.map(|s| s.detect(&PeriodicityOptions::default())),
@@ -80,7 +80,7 @@ pub fn run_simulation(
 }
 
 /// The section at the start of every motor period from `t0`, for pulse-driven scenes.
-fn gait_section(scene: &Scene, t0: f64) -> Option<PoincareSection> {
+fn gait_section(scene: &Setup, t0: f64) -> Option<PoincareSection> {
     match &scene.controller {
         ControllerConfig::Pulse(c) => {
             Some(PoincareSection::new(c.period, t0).leaving_out(scene.model.horizontal_positions()))
@@ -92,7 +92,7 @@ fn gait_section(scene: &Scene, t0: f64) -> Option<PoincareSection> {
 /// The cube Robbit is compared with (docs/physics.md §5.3): the robot's mass, the flywheel's
 /// parent's inertia `I_S`, and the radius `R` and eccentricity `a` of the circle that body
 /// carries; `None` unless the scene runs the momentum-impulse controller on a disc.
-pub fn robbit_cube(scene: &Scene) -> Option<Cube> {
+pub fn robbit_cube(scene: &Setup) -> Option<Cube> {
     let ControllerConfig::MomentumImpulse(c) = &scene.controller else {
         return None;
     };
@@ -114,7 +114,7 @@ pub fn robbit_cube(scene: &Scene) -> Option<Cube> {
 impl RobbitSummary {
     /// Robbit's figures of a run of `scene`; `None` unless it runs the momentum-impulse
     /// controller.
-    pub fn of(scene: &Scene, summary: &Summary) -> Option<Self> {
+    pub fn of(scene: &Setup, summary: &Summary) -> Option<Self> {
         if !matches!(scene.controller, ControllerConfig::MomentumImpulse(_)) {
             return None;
         }

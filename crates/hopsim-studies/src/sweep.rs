@@ -8,12 +8,18 @@ use crate::plot::{LinePlot, RGBColor, Scale, Series, SeriesStyle, BLACK};
 use crate::progress::Progress;
 use crate::report::{Report, ReportFile};
 use crate::run_summary::{robbit_cube, run_scene, RunReport};
-use hopsim_analysis::cube::Cube;
 use hopsim_control::ControllerConfig;
 use hopsim_io::{Cell, CsvTable};
 use hopsim_model::Shape;
 use hopsim_scene::{axis_label, key_words, value_label, Override, Scene, SceneError};
-use hopsim_sim::{grid_jobs, GridAxis, StopFlag, SweepJob, SweepPoint};
+use hopsim_sim::StopFlag;
+
+mod grid;
+pub use grid::{
+    grid_jobs, grid_points, sweep, GridAxis, RunDone, SweepJob, SweepPoint, MAX_AXIS_POINTS,
+    NO_PROGRESS,
+};
+use hopsim_theory::cube::Cube;
 use serde::Serialize;
 use std::fmt::Write;
 use std::ops::Range;
@@ -174,6 +180,7 @@ pub fn length_scale(scene: &Scene) -> f64 {
             semi_y,
         } => center.norm() + semi_x.max(*semi_y),
         Shape::Point { position } => position.norm(),
+        Shape::Capsule { from, to, radius } => from.norm().max(to.norm()) + radius,
         Shape::Polygon { vertices } => vertices.iter().map(|v| v.norm()).fold(0.0, f64::max),
     };
     let size = (scene.model.shapes().iter())
@@ -357,7 +364,7 @@ impl<'a> Sweep<'a> {
         self.jobs.drain(..part.start.min(end));
         let scene = self.scene;
         let tick = progress.task(self.jobs.len(), "sweep");
-        let points = hopsim_sim::sweep(
+        let points = grid::sweep(
             &scene.path,
             &scene.text,
             &self.base,

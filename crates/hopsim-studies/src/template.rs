@@ -10,7 +10,7 @@ pub use animals::{animal_sweeps, AnimalSweep, AnimalSweepsParams, AnimalSweepsRe
 pub use cargo_grid::{cargo_grid, CargoGridParams, CargoGridReport};
 pub use case::{template_case, CaseParams, CaseReport};
 
-use hopsim_analysis::template::TemplateParams;
+use hopsim_theory::template::TemplateParams;
 use serde::Serialize;
 
 /// Template parameters as the reports show them: with the eccentricity `a = R − l`.
@@ -42,7 +42,7 @@ pub fn span(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hopsim_analysis::template::TemplateCase;
+    use hopsim_theory::template::TemplateCase;
 
     #[test]
     fn span_covers_every_value() {

@@ -2,13 +2,13 @@
 //! the grid run from rest in the time-stepper, its speed and impulse per distance over the
 //! run's last seconds, and the cube through the most stable runs.
 
-use hopsim_analysis::fixed_points::{DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
-use hopsim_analysis::robbit::RobbitParams;
 use hopsim_studies::fixed_points::gaits::{most_stable_share, FixedPointGaits};
 use hopsim_studies::fixed_points::{fixed_points, FixedPointsParams, FixedPointsReport, Sections};
 use hopsim_studies::progress::Silent;
 use hopsim_studies::robbit_gait::StepperSettings;
 use hopsim_studies::{Report, ReportFile};
+use hopsim_theory::fixed_points::{DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
+use hopsim_theory::robbit::RobbitParams;
 
 fn gaits(angle_points: usize, energy_points: usize) -> (FixedPointsReport, FixedPointGaits) {
     let params = FixedPointsParams {

@@ -1,9 +1,6 @@
 //! The reports of the reduced-model studies (template, obstacle, impulsive wheel) keep the
 //! keys and file names of `hopsim analyze … --json` / `--out`, which scripts read.
 
-use hopsim_analysis::impulsive_wheel::ImpulsiveWheel;
-use hopsim_analysis::obstacle::Wheel;
-use hopsim_analysis::template::{CargoGrid, TemplateCase, TemplateParams};
 use hopsim_studies::impulsive_wheel::{impulsive_wheel, BifurcationParams, ImpulsiveWheelParams};
 use hopsim_studies::obstacle::{obstacle, MapParams, ObstacleParams};
 use hopsim_studies::progress::Silent;
@@ -11,6 +8,9 @@ use hopsim_studies::template::{
     animal_sweeps, cargo_grid, template_case, AnimalSweepsParams, CargoGridParams, CaseParams,
 };
 use hopsim_studies::{Report, ReportFile};
+use hopsim_theory::impulsive_wheel::ImpulsiveWheel;
+use hopsim_theory::obstacle::Wheel;
+use hopsim_theory::template::{CargoGrid, TemplateCase, TemplateParams};
 use serde::Serialize;
 
 /// The sorted keys of the object `report` serialises to.

@@ -3,18 +3,16 @@
 //! and the measured differences are printed (`cargo test -- --nocapture`) and recorded in
 //! docs/analysis.md §10.
 
-use hopsim_analysis::fixed_points::{find_fixed_point, FixedPoint, SolverSettings};
-use hopsim_analysis::obstacle::{self, Wheel};
-use hopsim_analysis::robbit::{
-    return_map, Control, FlywheelAtTouchdown, RobbitParams, SectionState,
-};
-use hopsim_analysis::template::{self, BodyState, TemplateCase, TemplateParams};
 use hopsim_model::{ContactMaterial, Model, Shape, Terrain, TerrainFeature, Vec2};
 use hopsim_step::{Actuation, ImpulseCommand, State, StepSettings, Stepper};
 use hopsim_studies::robbit_gait::{
     convergence_to_prediction, section_state, simulate, simulate_from_rest, GaitTolerance,
     StepperSettings,
 };
+use hopsim_theory::fixed_points::{find_fixed_point, FixedPoint, SolverSettings};
+use hopsim_theory::obstacle::{self, Wheel};
+use hopsim_theory::robbit::{return_map, Control, FlywheelAtTouchdown, RobbitParams, SectionState};
+use hopsim_theory::template::{self, BodyState, TemplateCase, TemplateParams};
 use nalgebra::DVector;
 use std::f64::consts::PI;
 
@@ -373,13 +371,11 @@ fn unstable_fixed_point_diverges_with_the_predicted_multiplier() {
 #[test]
 #[ignore]
 fn from_rest_convergence_over_the_default_grid() {
-    use hopsim_analysis::fixed_points::{
-        FixedPointGrid, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE,
-    };
+    use hopsim_theory::fixed_points::{FixedPointGrid, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
     for touchdown in [FlywheelAtTouchdown::Locked, FlywheelAtTouchdown::Free] {
         let p = robbit(touchdown);
         let grid = FixedPointGrid::new(p, DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE, 10, 10);
-        let points = grid.run(hopsim_analysis::grid::NO_PROGRESS).unwrap();
+        let points = grid.run(hopsim_theory::grid::NO_PROGRESS).unwrap();
         let (mut stable, mut converged, mut consistent, mut consistent_converged) = (0, 0, 0, 0);
         for fp in points
             .iter()

@@ -1,14 +1,8 @@
-//! Shared pieces of the `analyze` subcommands: output options, checks of numbers, and the
-//! mapping of invalid input to exit code 2.
+//! Shared pieces of the `analyze` subcommands: output options and checks of numbers.
 
 use clap::Args;
-use hopsim_analysis::AnalysisError;
-use hopsim_studies::StudyError;
-use std::fmt;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
-use crate::cmd::exit;
 use crate::cmd::progress::CountBars;
 
 /// `--json`, `--out DIR` and `--quiet`, shared by every analyze subcommand.
@@ -41,44 +35,4 @@ impl OutputArgs {
     }
 }
 
-/// An invalid command-line argument (exit code 2).
-#[derive(Debug)]
-pub struct InvalidInput(pub String);
-
-impl fmt::Display for InvalidInput {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for InvalidInput {}
-
-/// Returns an [`InvalidInput`] error.
-pub fn invalid<T>(message: impl Into<String>) -> anyhow::Result<T> {
-    Err(InvalidInput(message.into()).into())
-}
-
-/// Maps a subcommand's result to an exit code: invalid input prints the error and exits
-/// with 2; other errors go to `main` (exit 1).
-pub fn exit_code(result: anyhow::Result<()>) -> anyhow::Result<ExitCode> {
-    match result {
-        Ok(()) => Ok(ExitCode::SUCCESS),
-        Err(err) if is_invalid_input(&err) => {
-            eprintln!("error: {err:#}");
-            Ok(ExitCode::from(exit::INVALID_INPUT))
-        }
-        Err(err) => Err(err),
-    }
-}
-
-fn is_invalid_input(err: &anyhow::Error) -> bool {
-    err.chain().any(|e| {
-        e.downcast_ref::<InvalidInput>().is_some()
-            || e.downcast_ref::<StudyError>()
-                .is_some_and(StudyError::is_invalid_input)
-            || matches!(
-                e.downcast_ref::<AnalysisError>(),
-                Some(AnalysisError::InvalidParameter { .. })
-            )
-    })
-}
+pub use crate::cmd::exit::{invalid, InvalidInput};

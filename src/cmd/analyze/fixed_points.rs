@@ -2,10 +2,10 @@
 //! docs/analysis.md §9).
 
 use clap::{Args, ValueEnum};
-use hopsim_analysis::fixed_points::{DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
-use hopsim_analysis::robbit::{FlywheelAtTouchdown, RobbitParams};
 use hopsim_studies::fixed_points::{fixed_points, FixedPointsParams, Sections};
 use hopsim_studies::robbit_gait::StepperSettings;
+use hopsim_theory::fixed_points::{DEFAULT_ANGLE_RANGE, DEFAULT_ENERGY_RANGE};
+use hopsim_theory::robbit::{FlywheelAtTouchdown, RobbitParams};
 
 use super::common::{InvalidInput, OutputArgs};
 use crate::cmd::render::render;

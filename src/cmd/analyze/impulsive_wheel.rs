@@ -2,8 +2,8 @@
 //! computed by [`hopsim_studies::impulsive_wheel`].
 
 use clap::Args;
-use hopsim_analysis::impulsive_wheel::ImpulsiveWheel;
 use hopsim_studies::impulsive_wheel::{impulsive_wheel, BifurcationParams, ImpulsiveWheelParams};
+use hopsim_theory::impulsive_wheel::ImpulsiveWheel;
 
 use super::common::OutputArgs;
 use crate::cmd::render::render;
@@ -31,7 +31,7 @@ pub struct ImpulsiveWheelArgs {
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub rolling_energy: f64,
     /// Gravitational acceleration [m/s²].
-    #[arg(long, allow_negative_numbers = true, default_value_t = hopsim_analysis::STANDARD_GRAVITY)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = hopsim_theory::STANDARD_GRAVITY)]
     pub gravity: f64,
     /// Impulses of the iteration series (default: --impulse), e.g. --series 3,3.5,3.8.
     #[arg(long, allow_negative_numbers = true, value_delimiter = ',')]

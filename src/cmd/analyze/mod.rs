@@ -1,6 +1,6 @@
 //! `hopsim analyze …`: closed-form maps and reduced models of docs/physics.md §5
 //! (`docs/analysis.md`), computed by the studies of `hopsim-studies` over the theory of
-//! `hopsim-analysis`, and the gait of a simulated or recorded run.
+//! `hopsim-theory`, and the gait of a simulated or recorded run.
 //!
 //! Every subcommand prints a readable table by default, one JSON object with `--json`, and
 //! writes CSV files and PNG/SVG plots into `--out DIR` (created if missing, files written
@@ -52,12 +52,12 @@ pub enum AnalyzeCommand {
 }
 
 pub fn run(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
-    let result = match args.command {
+    match args.command {
         AnalyzeCommand::Template(args) => template::run(args),
         AnalyzeCommand::Obstacle(args) => obstacle::run(args),
         AnalyzeCommand::ImpulsiveWheel(args) => impulsive_wheel::run(args),
         AnalyzeCommand::FixedPoints(args) => fixed_points::run(args),
         AnalyzeCommand::Gait(args) => gait::run(args),
-    };
-    common::exit_code(result)
+    }?;
+    Ok(ExitCode::SUCCESS)
 }

@@ -2,8 +2,8 @@
 //! computed by [`hopsim_studies::obstacle`].
 
 use clap::Args;
-use hopsim_analysis::obstacle::Wheel;
 use hopsim_studies::obstacle::{obstacle, MapParams, ObstacleParams};
+use hopsim_theory::obstacle::Wheel;
 
 use super::common::{invalid, OutputArgs};
 use crate::cmd::render::render;
@@ -38,7 +38,7 @@ pub struct ObstacleArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub froude: Option<f64>,
     /// Gravitational acceleration [m/s²].
-    #[arg(long, allow_negative_numbers = true, default_value_t = hopsim_analysis::STANDARD_GRAVITY)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = hopsim_theory::STANDARD_GRAVITY)]
     pub gravity: f64,
     /// h/R values of the region maps (with --out).
     #[arg(

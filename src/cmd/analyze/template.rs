@@ -3,9 +3,9 @@
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
-use hopsim_analysis::template::{CargoGrid, TemplateCase, TemplateParams};
-use hopsim_analysis::AnalysisError;
 use hopsim_studies::template::{self as study, AnimalSweepsParams, CargoGridParams, CaseParams};
+use hopsim_theory::template::{CargoGrid, TemplateCase, TemplateParams};
+use hopsim_theory::AnalysisError;
 
 use super::common::{invalid, OutputArgs};
 use crate::cmd::render::render;

@@ -251,9 +251,7 @@ impl LemkeSolver {
         let (basic, index) = (&warm.basic[..n], &warm.index[..]);
         let (q, basic) = (&q[..n], &basic[..n]);
         let (q_norm, q_min, q_sum) = vector_stats(q);
-        // An empty basis is `z = 0`, which certifies only when `q ≥ 0`: the ordinary solve
-        // answers that at once.
-        if !q_sum.is_finite() || q_min >= 0.0 || index.is_empty() {
+        if !q_sum.is_finite() || q_min >= 0.0 {
             return false;
         }
         let ld = leading_dim(n);

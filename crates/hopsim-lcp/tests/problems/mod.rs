@@ -410,6 +410,12 @@ pub fn check_certificate(
         expected[1] = expected[1].min(low);
         expected[2] = expected[2].max((w[i] - r[i]).abs());
     }
+    prop_assert!(
+        (c.matrix_norm - m_norm).abs() <= 1e-14 * m_norm,
+        "matrix_norm: {} reported, {} expected",
+        c.matrix_norm,
+        m_norm
+    );
     let reported = [c.complementarity, c.most_negative, c.residual];
     for (name, (e, r)) in ["complementarity", "most_negative", "residual"]
         .iter()

@@ -1,9 +1,9 @@
 //! Helpers shared by the scene-level tests: bundled scenes, runs, first-second traces.
 #![allow(dead_code)]
 
+use hopsim_record::ImpulseTrace;
 use hopsim_scene::{Override, Scene};
 use hopsim_sim::{Observer, RunError, Simulation, StepView, Summary};
-use hopsim_step::ImpulseTrace;
 use std::path::{Path, PathBuf};
 
 /// A path relative to the repository root.

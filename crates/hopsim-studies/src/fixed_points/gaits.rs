@@ -11,11 +11,11 @@ use crate::report::{num, ReportFile, TextTable};
 use crate::robbit_gait::{rest_state, robbit_scene, StepperSettings};
 use crate::run_summary::run_scene;
 use crate::sweep::speed_against_impulse;
-use hopsim_analysis::cube::Cube;
-use hopsim_analysis::fixed_points::GridPoint;
-use hopsim_analysis::grid::par_map;
-use hopsim_analysis::robbit::RobbitParams;
 use hopsim_io::{Cell, CsvTable};
+use hopsim_theory::cube::Cube;
+use hopsim_theory::fixed_points::GridPoint;
+use hopsim_theory::grid::par_map;
+use hopsim_theory::robbit::RobbitParams;
 use serde::Serialize;
 use std::time::Instant;
 

@@ -2,9 +2,9 @@
 //! time-stepper cross-check, in SI units (the `--json` objects and the CSV rows).
 
 use crate::robbit_gait::{BrakeEvent, GaitConvergence, StepperRun};
-use hopsim_analysis::fixed_points::{FixedPoint, GridPoint};
-use hopsim_analysis::numerics::Complex;
-use hopsim_analysis::robbit::RobbitParams;
+use hopsim_theory::fixed_points::{FixedPoint, GridPoint};
+use hopsim_theory::numerics::Complex;
+use hopsim_theory::robbit::RobbitParams;
 use serde::Serialize;
 
 /// Robbit's parameters (docs/physics.md §5.3, Table 5.1).

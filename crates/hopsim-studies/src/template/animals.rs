@@ -6,10 +6,8 @@ use crate::plot::{three_significant_digits, LinePlot, RGBColor, Series, SeriesSt
 use crate::progress::Progress;
 use crate::report::{num, num_range, Report, ReportFile, TextTable};
 use crate::Result;
-use hopsim_analysis::template::{
-    sweep_case, GaitSummary, SweepPoint, TemplateCase, TemplateParams,
-};
 use hopsim_io::{Cell, CsvTable};
+use hopsim_theory::template::{sweep_case, AnimalPoint, GaitSummary, TemplateCase, TemplateParams};
 use serde::{Serialize, Serializer};
 use std::time::Instant;
 
@@ -38,8 +36,8 @@ struct PointRow<'a> {
     no_gait_reason: Option<&'a str>,
 }
 
-impl<'a> From<&'a SweepPoint> for PointRow<'a> {
-    fn from(p: &'a SweepPoint) -> Self {
+impl<'a> From<&'a AnimalPoint> for PointRow<'a> {
+    fn from(p: &'a AnimalPoint) -> Self {
         let s = p.summary.as_ref();
         PointRow {
             takeoff_angle_rad: p.takeoff_angle,
@@ -53,7 +51,7 @@ impl<'a> From<&'a SweepPoint> for PointRow<'a> {
     }
 }
 
-fn point_rows<S: Serializer>(points: &[SweepPoint], s: S) -> std::result::Result<S::Ok, S::Error> {
+fn point_rows<S: Serializer>(points: &[AnimalPoint], s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_seq(points.iter().map(PointRow::from))
 }
 
@@ -70,7 +68,7 @@ pub struct AnimalSweep {
     base_parameters: ParamsWithEccentricity,
     /// The points, `φ_TO` outer, `ΔE` inner.
     #[serde(serialize_with = "point_rows")]
-    pub points: Vec<SweepPoint>,
+    pub points: Vec<AnimalPoint>,
 }
 
 /// The sweeps' result.
@@ -110,7 +108,7 @@ pub fn animal_sweeps(
 }
 
 /// The take-off angles of `points` in order (each once; points are `φ_TO` outer).
-fn takeoff_angles(points: &[SweepPoint]) -> Vec<f64> {
+fn takeoff_angles(points: &[AnimalPoint]) -> Vec<f64> {
     let mut angles: Vec<f64> = points.iter().map(|p| p.takeoff_angle).collect();
     angles.dedup();
     angles
@@ -118,7 +116,7 @@ fn takeoff_angles(points: &[SweepPoint]) -> Vec<f64> {
 
 /// `(u / sqrt(g l), stride)` of the points at take-off angle `phi` whose gait has
 /// `converged` as given.
-fn stride_against_speed(points: &[SweepPoint], phi: f64, converged: bool) -> Vec<(f64, f64)> {
+fn stride_against_speed(points: &[AnimalPoint], phi: f64, converged: bool) -> Vec<(f64, f64)> {
     points
         .iter()
         .filter(|p| p.takeoff_angle == phi)
@@ -254,8 +252,8 @@ impl Report for AnimalSweepsReport {
 mod tests {
     use super::*;
 
-    fn point(phi: f64, gait: Option<(f64, bool)>) -> SweepPoint {
-        SweepPoint {
+    fn point(phi: f64, gait: Option<(f64, bool)>) -> AnimalPoint {
+        AnimalPoint {
             takeoff_angle: phi,
             energy_input: 1.0,
             summary: gait.map(|(speed, converged)| GaitSummary {

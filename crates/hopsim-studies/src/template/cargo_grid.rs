@@ -6,9 +6,9 @@ use crate::plot::Heatmap;
 use crate::progress::Progress;
 use crate::report::{num, num_range, Report, ReportFile, TextTable};
 use crate::Result;
-use hopsim_analysis::template::{CargoGrid, GaitSummary, GridCell, TemplateParams};
-use hopsim_analysis::AnalysisError;
 use hopsim_io::{Cell, CsvTable};
+use hopsim_theory::template::{CargoGrid, GaitSummary, GridCell, TemplateParams};
+use hopsim_theory::AnalysisError;
 use serde::{Serialize, Serializer};
 use std::time::Instant;
 

@@ -5,10 +5,10 @@ use super::ParamsWithEccentricity;
 use crate::plot::{LinePlot, Series, SeriesStyle, PALETTE};
 use crate::report::{num, nums, Report, ReportFile, TextTable};
 use crate::Result;
-use hopsim_analysis::template::{
+use hopsim_io::{Cell, CsvTable};
+use hopsim_theory::template::{
     self, GaitSummary, NoGait, Phase, TemplateCase, TemplateParams, TemplateRun, TrajectorySample,
 };
-use hopsim_io::{Cell, CsvTable};
 use serde::Serialize;
 
 /// What to run: a named case, possibly with other parameters.
@@ -340,7 +340,7 @@ impl Report for CaseReport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hopsim_analysis::template::{BodyState, HopRecord};
+    use hopsim_theory::template::{BodyState, HopRecord};
 
     fn sample(hop: usize, phase: Phase, x: f64) -> TrajectorySample {
         TrajectorySample {
