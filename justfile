@@ -51,6 +51,10 @@ lint:
     cargo fmt --all -- --check
     cargo clippy --workspace --all-targets --release -- -D warnings
 
+# docs/ as a book in target/book, links checked (installs mdBook if missing; docs/book.md)
+book:
+    bash .ci/book
+
 # Everything CI does
 ci:
     bash .ci/run

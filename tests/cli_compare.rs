@@ -151,6 +151,7 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
             impulse_normal: impulse(step),
             impulse_tangent: 0.0,
             state: "stick",
+            friction_indeterminate: false,
         }];
         let bodies = [BodyPose {
             position: [t, 0.5],

@@ -315,11 +315,16 @@ fn outputs_on_one_path_or_on_the_scene_are_refused_before_running() {
     let original = std::fs::read_to_string(&scene).unwrap();
     let s = scene.display().to_string();
     let csv = dir.path().join("a.csv").display().to_string();
+    let mcap = dir.path().join("a.mcap").display().to_string();
     for (args, expect) in [
         (vec!["--summary", s.as_str()], "that is the scene file"),
         (
             vec!["--csv", csv.as_str(), "--summary", csv.as_str()],
             "is also the --csv output",
+        ),
+        (
+            vec!["--rrd", mcap.as_str()],
+            "a .mcap name is for --mcap; --rrd writes a .rrd file",
         ),
     ] {
         let mut all = vec!["run", s.as_str(), "--duration", "0.2", "-q"];
@@ -330,6 +335,23 @@ fn outputs_on_one_path_or_on_the_scene_are_refused_before_running() {
     }
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), original);
     assert_eq!(files_in(dir.path()), [scene]);
+    // A name of no output format is written, with a warning.
+    let odd = dir.path().join("a.rerun").display().to_string();
+    let out = hopsim(&[
+        "run",
+        s.as_str(),
+        "--duration",
+        "0.01",
+        "--rrd",
+        odd.as_str(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("--rrd writes a .rrd file, and this name does not end in .rrd"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(Path::new(&odd).is_file());
 }
 
 /// Starts a long recorded run in a fresh folder, waits until its recorders have created

@@ -29,11 +29,13 @@ See docs/python.md.
 
 from __future__ import annotations
 
-import json
-import os
-from typing import Any, Dict, List, Optional
+# Imports the package uses itself are underscored, so that ``dir(hopsim)`` lists what it
+# offers (``__all__``) and nothing else.
+import json as _json
+import os as _os
+from typing import Any as _Any
 
-import numpy as np
+import numpy as _np
 
 from . import _hopsim, lcp
 from ._hopsim import (
@@ -80,8 +82,8 @@ class Simulation(_hopsim.Simulation):
 
     def run(
         self,
-        duration: Optional[float] = None,
-        record_rate: Optional[float] = None,
+        duration: float | None = None,
+        record_rate: float | None = None,
         frames: bool = True,
     ) -> Trajectory:
         """Continues for ``duration`` seconds (default: the scene's ``simulation.duration``;
@@ -106,20 +108,24 @@ class Simulation(_hopsim.Simulation):
             raise
         return Trajectory._from_run(raw)
 
-    def events(self) -> List[Dict[str, Any]]:
+    def events(self) -> list[dict[str, _Any]]:
         """The events of the last step (take-off, touchdown, brake, ...), as recorded."""
-        return json.loads(self._events())
+        return _json.loads(self._events())
 
     @property
-    def state(self) -> "tuple[float, np.ndarray, np.ndarray]":
+    def state(self) -> tuple[float, _np.ndarray, _np.ndarray]:
         """``(t, q, u)`` (copies)."""
         return self.t, self.q, self.u
 
 
-def read_mcap(path: "str | os.PathLike[str]") -> Recording:
+def read_mcap(path: str | _os.PathLike[str]) -> Recording:
     """Reads a recording written by ``hopsim run --mcap`` (numbers bit for bit): the
     recorded states, contact and brake impulses, events, metadata and the scene file. A
     recording kept after its run stopped early (``FILE.partial.mcap``) says why in
     ``stopped``. Raises ``ValueError`` for a file that is not a hopsim recording."""
     return Recording._from_raw(_hopsim.read_mcap(path))
 
+
+
+# The future import binds the name ``annotations`` in this module; it is no part of the API.
+del annotations

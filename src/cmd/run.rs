@@ -61,10 +61,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         extra.push(Override::from_flag("--strict", "simulation.strict", "true"));
     }
     let scene = args.scene.load(&extra)?;
-    if let Err(message) = check_output_paths(&args, &scene.path) {
-        return exit::invalid(message);
-    }
+    let extension_warnings = match check_output_paths(&args, &scene.path) {
+        Ok(warnings) => warnings,
+        Err(message) => return exit::invalid(message),
+    };
     if !args.quiet {
+        for warning in extension_warnings {
+            eprintln!("warning: {warning}");
+        }
         for notice in &scene.notices {
             eprintln!("notice: {notice}");
         }
@@ -155,9 +159,19 @@ fn report_partial_outputs(observer: RecordingObserver, err: &RunError, summary: 
     }
 }
 
+/// The extension of each output's format.
+const OUTPUT_EXTENSIONS: [(&str, &str); 4] = [
+    ("--mcap", "mcap"),
+    ("--rrd", "rrd"),
+    ("--csv", "csv"),
+    ("--summary", "json"),
+];
+
 /// Output files must differ from each other and from the scene file: a summary written
-/// over the scene, or a CSV over the MCAP, would silently lose one of them.
-fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<(), String> {
+/// over the scene, or a CSV over the MCAP, would silently lose one of them. A path ending
+/// in another output's extension (`--rrd out.mcap`) is refused: the file would not be what
+/// its name says. Returns a warning for each path with an extension of no output format.
+fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<Vec<String>, String> {
     let mut outputs: Vec<(&str, PathBuf)> = Vec::new();
     let flags = [
         ("--mcap", &args.mcap),
@@ -191,5 +205,32 @@ fn check_output_paths(args: &RunArgs, scene: &Path) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    let mut warnings = Vec::new();
+    for (flag, path) in outputs {
+        let Some(&(_, expected)) = OUTPUT_EXTENSIONS.iter().find(|(f, _)| *f == flag) else {
+            continue;
+        };
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let extension = extension.to_ascii_lowercase();
+        if extension == expected {
+            continue;
+        }
+        let other = OUTPUT_EXTENSIONS.iter().find(|(_, e)| *e == extension);
+        match other {
+            Some((other_flag, _)) => {
+                return Err(format!(
+                    "{flag} {}: a .{extension} name is for {other_flag}; {flag} writes a \
+                     .{expected} file (e.g. {flag} {})",
+                    path.display(),
+                    path.with_extension(expected).display()
+                ))
+            }
+            None => warnings.push(format!(
+                "{flag} {}: {flag} writes a .{expected} file, and this name does not end in \
+                 .{expected}",
+                path.display()
+            )),
+        }
+    }
+    Ok(warnings)
 }

@@ -175,6 +175,10 @@ pub struct ContactSample {
     pub impulse_tangent: f64,
     /// "open", "stick" or "slip".
     pub state: &'static str,
+    /// The contact's friction is indeterminate (its normal and tangential rows are
+    /// dependent, docs/physics.md §4.8): it was resolved without friction, so
+    /// `impulse_tangent` is 0 and the percussion drawn is the normal one only.
+    pub friction_indeterminate: bool,
 }
 
 /// Energies at a frame, J (docs/physics.md §6).

@@ -57,15 +57,15 @@ fn rrd_file_is_complete_and_loads_in_the_rerun_cli() {
     let listing = log(&print);
     for entity in [
         "/world/terrain",
-        "/world/bodies/disc/outline",
-        "/world/bodies/disc/points",
-        "/world/bodies/flywheel/spoke",
+        "/world/com/bodies/disc/outline",
+        "/world/com/bodies/disc/points",
+        "/world/com/bodies/flywheel/spoke",
+        "/world/com/view",
         "/world/springs",
-        "/world/com/trail/0",
-        "/world/com/trail/1",
-        "/world/contacts/force",
+        "/world/trail/0",
+        "/world/contacts/normal_force",
+        "/world/contacts",
         "/plots/energy_J",
-        "/plots/impulse_Ns/normal",
         "/events",
     ] {
         assert!(
@@ -74,14 +74,15 @@ fn rrd_file_is_complete_and_loads_in_the_rerun_cli() {
         );
     }
     // Columnar logging: the 120 frames of a time series or a body's transform are one
-    // chunk (beside a static one with the series' names and colours, or the marker's
-    // size), not one per frame.
+    // chunk (beside a static one with the series' names and colours, or the marker), not
+    // one per frame; the contacts' impulses and force arrows share theirs.
     let stats = rerun(&["rrd", "stats"], &path).unwrap();
     let stats = log(&stats);
     for (entity, chunks) in [
         ("/plots/energy_J", 2),
-        ("/world/bodies/disc", 1),
+        ("/world/com/bodies/disc", 1),
         ("/world/com", 2),
+        ("/world/contacts", 3),
     ] {
         assert!(
             stats.contains(&format!("{entity}: {chunks}\n")),

@@ -4,6 +4,11 @@
 //!
 //! Path segments are table keys; in an array, a segment is an index (`initial.q.1`) or the
 //! `name` of a table in an array of tables (`bodies.disc.mass`).
+//!
+//! `controller.type` set to another type switches the controller: the keys the file gave
+//! the old type are dropped (keys set by other overrides stay), so that
+//! `--set controller.type=passive` works on any scene and a new type takes its keys from
+//! further `--set` arguments.
 
 use crate::error::{suggestion, SceneError};
 use crate::tree::{parse_override_value, Entry, Kind, Node, Origin};
@@ -71,6 +76,9 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
     };
     let segments: Vec<&str> = ov.key.split('.').map(str::trim).collect();
     let value = parse_override_value(&ov.value, &text);
+    if segments == ["controller", "type"] {
+        drop_keys_of_another_controller(root, &value);
+    }
     let origin = Origin::Override(text.clone());
     let mut node = root;
     let mut walked = String::new();
@@ -148,6 +156,30 @@ pub fn apply(root: &mut Node, ov: &Override) -> Result<(), SceneError> {
     Ok(())
 }
 
+/// Removes the keys the file gave `[controller]` when `new_type` is another controller
+/// type than the file's (`passive` when it names none).
+fn drop_keys_of_another_controller(root: &mut Node, new_type: &Node) {
+    let Kind::Table(sections) = &mut root.kind else {
+        return;
+    };
+    let Some(Kind::Table(keys)) = sections
+        .iter_mut()
+        .find(|e| e.key == "controller")
+        .map(|e| &mut e.node.kind)
+    else {
+        return;
+    };
+    let old_type = keys.iter().find(|e| e.key == "type").map(|e| &e.node.kind);
+    let switched = match (old_type, &new_type.kind) {
+        (Some(Kind::Str(old)), Kind::Str(new)) => old != new,
+        (None, Kind::Str(new)) => new != "passive",
+        _ => false,
+    };
+    if switched {
+        keys.retain(|e| e.key == "type" || matches!(e.key_origin, Origin::Override(_)));
+    }
+}
+
 /// The `name` of a table in an array of tables.
 fn table_name(item: &Node) -> Option<&str> {
     item.entries().iter().find_map(|e| match &e.node.kind {
@@ -222,6 +254,37 @@ mod tests {
         assert!(matches!(q[1].kind, Kind::Float(v) if v == 0.5));
         assert_eq!(q[1].origin, Origin::Override("--set i.q.1=0.5".into()));
         assert!(matches!(get(get(&root, "new"), "x").kind, Kind::Bool(true)));
+    }
+
+    #[test]
+    fn another_controller_type_drops_the_keys_of_the_old_one() {
+        let file = "[controller]\ntype = \"pulse\"\njoint = \"leg\"\nforce = 2.0\n";
+        let keys = |root: &Node| -> Vec<String> {
+            let keys = get(root, "controller").entries().iter();
+            let mut keys: Vec<String> = keys.map(|e| e.key.clone()).collect();
+            keys.sort();
+            keys
+        };
+        // The same type keeps every key.
+        let mut root = doc(file);
+        apply(&mut root, &"controller.type=pulse".parse().unwrap()).unwrap();
+        assert_eq!(keys(&root), ["force", "joint", "type"]);
+        // Another type drops the file's keys, not those set on the command line.
+        let mut root = doc(file);
+        apply(&mut root, &"controller.torque=0.3".parse().unwrap()).unwrap();
+        apply(
+            &mut root,
+            &"controller.type=momentum_impulse".parse().unwrap(),
+        )
+        .unwrap();
+        assert_eq!(keys(&root), ["torque", "type"]);
+        let mut root = doc(file);
+        apply(&mut root, &"controller.type=passive".parse().unwrap()).unwrap();
+        assert_eq!(keys(&root), ["type"]);
+        // A file without a type has the passive controller.
+        let mut root = doc("[controller]\n");
+        apply(&mut root, &"controller.type=passive".parse().unwrap()).unwrap();
+        assert_eq!(keys(&root), ["type"]);
     }
 
     #[test]

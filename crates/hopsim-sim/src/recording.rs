@@ -247,6 +247,7 @@ impl RecordingObserver {
                 impulse_normal: c.impulse_normal,
                 impulse_tangent: c.impulse_tangent,
                 state: c.state.as_str(),
+                friction_indeterminate: c.dependent,
             }));
         self.springs.clear();
         self.springs.extend((0..model.springs().len()).map(|s| {

@@ -118,6 +118,7 @@ pub fn frames(count: u64) -> Vec<OwnedFrame> {
                     impulse_normal: 2.7e-3 + 1e-6 * k as f64,
                     impulse_tangent: -1.0 / 3.0 * 1e-4,
                     state: "stick",
+                    friction_indeterminate: false,
                 });
             }
             if k % 5 == 4 {
@@ -128,6 +129,7 @@ pub fn frames(count: u64) -> Vec<OwnedFrame> {
                     impulse_normal: if k == 4 { 1e-300 } else { 0.0 },
                     impulse_tangent: 0.0,
                     state: "open",
+                    friction_indeterminate: true,
                 });
             }
             OwnedFrame {

@@ -1,0 +1,2 @@
+// A build script makes cargo resolve the crate's build dependencies (hakari).
+fn main() {}
