@@ -117,8 +117,8 @@ fn python_package_installs_and_passes_its_tests_and_notebook() {
          print('notebook ran:', len(nb.cells), 'cells')\n",
         path = notebook.display().to_string(),
         // Not the notebook's own folder: it finds the scenes from any folder of the
-        // repository.
-        dir = repo.join("python").display().to_string(),
+        // repository (not python/, whose source package would shadow the installed one).
+        dir = repo.join("docs").display().to_string(),
     );
     // No system fonts: an empty fontconfig, and a matplotlib cache built under it.
     let fontless = tempfile::tempdir().expect("a folder for the fontless configuration");
