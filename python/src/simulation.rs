@@ -36,6 +36,7 @@ fn run_error(py: Python<'_>, what: &str, e: RunError, poll: Option<&mut SignalPo
         RunError::Internal { step, t, message } => {
             internal_error(py, what, Some((step, t)), &message)
         }
+        RunError::Actuation(e) => actuation_error(&e),
         e => error(py, Class::Simulation, e.to_string()),
     }
 }
@@ -165,21 +166,15 @@ impl PyActuation {
     }
 }
 
-impl PyActuation {
-    /// Refuses commands the model cannot carry out (`Actuation::validate`,
-    /// `ControlEvent::validate`): an index out of range is an `IndexError`, anything else a
-    /// `ValueError`.
-    fn check(&self, scene: &Scene) -> PyResult<()> {
-        let model = &scene.model;
-        self.actuation
-            .validate(model)
-            .and_then(|()| self.events.iter().try_for_each(|e| e.validate(model)))
-            .map_err(|e| match e {
-                ActuationError::NoSuchBody { .. } | ActuationError::NoSuchShape { .. } => {
-                    PyIndexError::new_err(e.to_string())
-                }
-                _ => PyValueError::new_err(e.to_string()),
-            })
+/// The Python exception of a command the model cannot carry out (`Actuation::validate`,
+/// `ControlEvent::validate`, checked by `Simulation::step_with` before the step): an index
+/// out of range is an `IndexError`, anything else a `ValueError`.
+fn actuation_error(e: &ActuationError) -> PyErr {
+    match e {
+        ActuationError::NoSuchBody { .. } | ActuationError::NoSuchShape { .. } => {
+            PyIndexError::new_err(e.to_string())
+        }
+        _ => PyValueError::new_err(e.to_string()),
     }
 }
 
@@ -328,7 +323,6 @@ impl PySimulation {
             let (mut poll, mut single) = (SignalPoll::new(), ());
             let result = match actuation {
                 Some(a) => {
-                    a.check(&scene)?;
                     let observer: &mut dyn Observer = if n > 1 { &mut poll } else { &mut single };
                     (0..n).try_for_each(|_| sim.step_with(&a.actuation, &a.events, observer))
                 }
