@@ -569,23 +569,15 @@ impl Model {
                 }
             }
         }
-        for (b, joint) in self.armatures() {
+        for &(b, armature) in &self.structure.armatures {
             let i = self.first_coordinate[b];
-            m[i * n + i] += joint.armature;
+            m[i * n + i] += armature;
         }
         for i in 1..n {
             for j in 0..i {
                 m[i * n + j] = m[j * n + i];
             }
         }
-    }
-
-    /// The bodies whose joints have an armature, with their joints.
-    fn armatures(&self) -> impl Iterator<Item = (usize, &Joint)> {
-        self.bodies.iter().enumerate().filter_map(|(b, body)| {
-            let joint = body.joint.as_ref()?;
-            (joint.armature != 0.0 && joint.has_coordinate()).then_some((b, joint))
-        })
     }
 
     /// Smooth forces `h(q, u)`: gravity, centripetal terms, springs and damping, plus the
@@ -798,9 +790,9 @@ impl Model {
                 spring += 0.5 * j.stiffness * stretch * stretch;
             }
         }
-        for (b, joint) in self.armatures() {
+        for &(b, armature) in &self.structure.armatures {
             let rate = kinematics.joint_rate(b);
-            kinetic += 0.5 * joint.armature * rate * rate;
+            kinetic += 0.5 * armature * rate * rate;
         }
         Energies {
             kinetic,

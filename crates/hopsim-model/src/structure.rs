@@ -33,6 +33,9 @@ pub(crate) struct Structure {
     /// The shortcut of each potential terrain contact that is a circle on a line without
     /// ends (see [`Model::contact_geometry`]).
     pub discs_on_lines: Vec<Option<DiscOnLine>>,
+    /// The bodies whose joint coordinate carries an armature, with it (kg m² or kg): the
+    /// mass matrix and the kinetic energy add `armature · rate²` for these only.
+    pub armatures: Vec<(usize, f64)>,
 }
 
 impl Structure {
@@ -45,6 +48,7 @@ impl Structure {
             jacobian_constant: false,
             constant_weight: None,
             discs_on_lines: Vec::new(),
+            armatures: Vec::new(),
         }
     }
 
@@ -90,6 +94,15 @@ impl Structure {
             constant_weight: None,
             discs_on_lines: (0..model.contacts().len())
                 .map(|i| DiscOnLine::new(model, i))
+                .collect(),
+            armatures: model
+                .bodies()
+                .iter()
+                .enumerate()
+                .filter_map(|(b, body)| {
+                    let joint = body.joint.as_ref()?;
+                    (joint.armature != 0.0 && joint.has_coordinate()).then_some((b, joint.armature))
+                })
                 .collect(),
         }
     }
