@@ -9,7 +9,8 @@ of the per-round ratios. Every measurement's z is checked against the other solv
 
 Rollout: MuJoCo's native rollout (mujoco.rollout.rollout, in this process) of the planar
 Robbit in robbit.xml, and hopsim's run loop on scenes/robbit.toml (peer_rollout), both
-20 s = 100 000 steps of 2e-4 s, alternated the same way.
+20 s = 100 000 steps of 2e-4 s, alternated the same way. Then the same MJCF file stepped by
+both: gymnasium's hopper.xml, 10 s at its own 0.002 s, zero controls.
 
 Exit status: 0, or 1 (after the table) if a solver failed or returned a z that does not
 solve the LCP. Different z that both solve it (an LCP may have several solutions) are
@@ -49,6 +50,9 @@ Z_TOL = 1e-7
 # replays; robbit.xml has Table 5.1's bodies.
 I_S, I_R = 3.004e-3, 1.543e-3
 DURATION = 20.0  # s
+# The MJCF rollout: gymnasium's hopper.xml with zero controls.
+HOPPER_DURATION = 10.0  # s
+HOPPER_TILT = 0.1  # rad, initial rooty
 
 
 def loud(message):
@@ -232,7 +236,7 @@ def robbit_controls(mujoco, np, model, control):
                   "contact_steps": int(contact_steps), "distance_m": float(data.qpos[x])}
 
 
-def bench_rollout(args):
+def import_mujoco():
     try:
         import mujoco
         import mujoco.rollout
@@ -240,15 +244,21 @@ def bench_rollout(args):
     except ImportError as e:
         sys.exit(f"error: MuJoCo's Python package is missing ({e}); install it with "
                  "`python3 -m pip install 'mujoco>=3.2'` (run.sh does this)")
-    model = mujoco.MjModel.from_xml_path(str(HERE / "robbit.xml"))
-    ctrl, info = robbit_controls(mujoco, np, model, scene_control(args.scene))
-    nstep = ctrl.shape[0]
-    data = mujoco.MjData(model)
+    return mujoco, np
+
+
+def interleaved_rollouts(args, mujoco, np, model, control, hopsim_cmd, label, data=None):
+    """Times MuJoCo's native rollout of `model` with the open-loop `control` (nstep x nu)
+    from the state in `data` (default: the model's initial state) against hopsim's
+    `peer_rollout` command, alternating which goes first; returns (table row, MuJoCo rates,
+    hopsim rates, hopsim's last JSON line)."""
+    nstep = control.shape[0]
+    data = data or mujoco.MjData(model)
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     state0 = np.zeros(mujoco.mj_stateSize(model, spec))
     mujoco.mj_getState(model, data, state0, spec)
     out = np.zeros((1, nstep, state0.size))
-    initial, control = state0[None], ctrl[None]
+    initial, control = state0[None], control[None]
 
     def mujoco_rate():
         start = time.perf_counter()
@@ -265,30 +275,75 @@ def bench_rollout(args):
                 mj.append(statistics.median(mujoco_rate() for _ in range(args.rollout_runs)))
             else:
                 (hop,) = run_json([args.hopsim_rollout, "--runs", str(args.rollout_runs),
-                                   args.scene])
+                                   *hopsim_cmd])
                 hs.append(hop["median_steps_per_s"])
-        print(f"  rollout round {r + 1}/{args.rounds} done", file=sys.stderr, flush=True)
+        print(f"  {label}: round {r + 1}/{args.rounds} done", file=sys.stderr, flush=True)
+    if hop["steps"] != nstep:
+        sys.exit(f"error: {label}: hopsim ran {hop['steps']} steps, MuJoCo {nstep}")
     mm, mh = statistics.median(mj), statistics.median(hs)
     ratios = [b / a for a, b in zip(mj, hs)]
-    rows = [[
-        f"Robbit, 20 s = {fmt_rate(nstep)} steps",
-        fmt_rate(mm),
-        fmt_rate(mh),
-        f"{mh / mm:.2f}×",
-        f"{min(ratios):.2f}–{max(ratios):.2f}",
-    ]]
-    header = ["rollout", "MuJoCo steps/s", "hopsim steps/s", "ratio hopsim/MuJoCo",
-              "ratio range over rounds"]
-    note = (f"Trajectories (not the same: soft against rigid contact, damper against lock "
-            f"brake): MuJoCo {mujoco.__version__}: {info['brakes']} brakes, "
+    row = [f"{label}, {fmt_rate(nstep)} steps", fmt_rate(mm), fmt_rate(mh), f"{mh / mm:.2f}×",
+           f"{min(ratios):.2f}–{max(ratios):.2f}"]
+    return row, mj, hs, hop
+
+
+def bench_rollout(args):
+    mujoco, np = import_mujoco()
+    model = mujoco.MjModel.from_xml_path(str(HERE / "robbit.xml"))
+    ctrl, info = robbit_controls(mujoco, np, model, scene_control(args.scene))
+    row, mj, hs, hop = interleaved_rollouts(args, mujoco, np, model, ctrl, [args.scene],
+                                            f"Robbit, {DURATION:g} s")
+    note = (f"Robbit's trajectories (not the same: soft against rigid contact, damper "
+            f"against lock brake): MuJoCo {mujoco.__version__}: {info['brakes']} brakes, "
             f"{info['takeoffs']} contact losses, in contact in {info['contact_steps']} of "
-            f"{nstep} steps, x {info['distance_m']:+.2f} m; hopsim: {hop['hops']} hops, "
-            f"x {hop['distance_m']:+.2f} m (the two x axes point opposite ways).")
+            f"{ctrl.shape[0]} steps, x {info['distance_m']:+.2f} m; hopsim: {hop['hops']} "
+            f"hops, x {hop['distance_m']:+.2f} m (the two x axes point opposite ways).")
     result = {"mujoco_version": mujoco.__version__, "mujoco_steps_per_s": mj,
-              "hopsim_steps_per_s": hs, "mujoco_median": mm, "hopsim_median": mh,
-              "ratio": mh / mm, "mujoco_trajectory": info,
+              "hopsim_steps_per_s": hs, "mujoco_median": statistics.median(mj),
+              "hopsim_median": statistics.median(hs),
+              "ratio": statistics.median(hs) / statistics.median(mj),
+              "mujoco_trajectory": info,
               "hopsim_trajectory": {"hops": hop["hops"], "distance_m": hop["distance_m"]}}
-    return table(header, rows), note, result
+    return row, note, result
+
+
+def hopper_xml():
+    """Gymnasium's hopper.xml (the model file users run), from the installed package."""
+    try:
+        import gymnasium
+    except ImportError as e:
+        sys.exit(f"error: the MJCF rollout needs gymnasium's hopper.xml ({e}); install it "
+                 "with `python3 -m pip install gymnasium` (run.sh does this)")
+    return Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "hopper.xml"
+
+
+def bench_hopper(args):
+    """The same MJCF file stepped by both at its own timestep (0.002 s), single thread, with
+    zero controls from the standing pose tilted by HOPPER_TILT: the limp hopper falls and
+    lies on the floor. (Untilted, it stands on its foot: an equilibrium that hopsim's rigid
+    contact keeps until round-off tips it, several seconds later than MuJoCo's soft one.)"""
+    mujoco, np = import_mujoco()
+    path = hopper_xml()
+    model = mujoco.MjModel.from_xml_path(str(path))
+    nstep = int(round(HOPPER_DURATION / model.opt.timestep))
+    ctrl = np.zeros((nstep, model.nu))
+    data = mujoco.MjData(model)
+    data.qpos[2] = HOPPER_TILT  # rooty: the coordinates are MuJoCo's qpos in both
+    row, mj, hs, hop = interleaved_rollouts(
+        args, mujoco, np, model, ctrl,
+        ["--set", f"simulation.duration={HOPPER_DURATION}", "--set",
+         f"initial.q.2={HOPPER_TILT}", str(path)],
+        f"Hopper (MJCF), {HOPPER_DURATION:g} s", data)
+    data = mujoco.MjData(model)
+    data.qpos[2] = HOPPER_TILT
+    for _ in range(nstep):
+        mujoco.mj_step(model, data)
+    note = (f"Hopper: gymnasium's hopper.xml at dt = {model.opt.timestep:g} s, no control, "
+            f"tilted {HOPPER_TILT:g} rad; root x after {HOPPER_DURATION:g} s: MuJoCo "
+            f"{data.qpos[0]:+.3f} m, hopsim {hop['distance_m']:+.3f} m.")
+    result = {"mujoco_steps_per_s": mj, "hopsim_steps_per_s": hs,
+              "ratio": statistics.median(hs) / statistics.median(mj)}
+    return row, note, result
 
 
 def machine():
@@ -315,7 +370,7 @@ def main():
     p.add_argument("--batches", type=int, default=31)
     p.add_argument("--batch-us", type=float, default=200.0)
     p.add_argument("--rollout-runs", type=int, default=3)
-    p.add_argument("--only", choices=["lcp", "rollout"])
+    p.add_argument("--only", choices=["lcp", "rollout", "hopper"])
     p.add_argument("--json", help="also write the raw measurements here")
     args = p.parse_args()
 
@@ -323,10 +378,21 @@ def main():
     load0 = os.getloadavg()
     lcp_table = rollout_table = rollout_note = None
     failures, warnings, raw = [], [], {"date": started, "machine": machine()}
-    if args.only != "rollout":
+    if args.only in (None, "lcp"):
         lcp_table, raw["lcp"], failures, warnings = bench_lcps(args)
-    if args.only != "lcp":
-        rollout_table, rollout_note, raw["rollout"] = bench_rollout(args)
+    rollout_rows, notes = [], []
+    if args.only in (None, "rollout"):
+        row, note, raw["rollout"] = bench_rollout(args)
+        rollout_rows.append(row)
+        notes.append(note)
+    if args.only in (None, "hopper"):
+        row, note, raw["hopper"] = bench_hopper(args)
+        rollout_rows.append(row)
+        notes.append(note)
+    if rollout_rows:
+        rollout_table = table(["rollout", "MuJoCo steps/s", "hopsim steps/s",
+                               "ratio hopsim/MuJoCo", "ratio range over rounds"], rollout_rows)
+        rollout_note = "\n".join(notes)
     load1 = os.getloadavg()
     raw["loadavg_start_end"] = [load0[0], load1[0]]
 

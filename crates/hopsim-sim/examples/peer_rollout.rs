@@ -4,14 +4,14 @@
 //! summary) and prints the median speed in steps per second of wall time:
 //!
 //! ```text
-//! peer_rollout [--runs R] [SCENE.toml]
+//! peer_rollout [--runs R] [--set KEY=VALUE]... [SCENE.toml | MODEL.xml]
 //! ```
 //!
 //! One untimed warm-up run, then `R` timed runs (default 5). Prints one JSON line:
 //! `{"scene", "steps", "runs", "median_steps_per_s", "steps_per_s": [...], "hops", "distance_m"}`
 //! (hops and distance of the centre of mass along x, for comparing the trajectories).
 
-use hopsim_scene::Scene;
+use hopsim_scene::{Override, Scene};
 use hopsim_sim::Simulation;
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -19,12 +19,13 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 fn usage() -> ExitCode {
-    eprintln!("usage: peer_rollout [--runs R] [SCENE.toml]");
+    eprintln!("usage: peer_rollout [--runs R] [--set KEY=VALUE]... [SCENE.toml | MODEL.xml]");
     ExitCode::from(2)
 }
 
 fn main() -> ExitCode {
     let mut runs: usize = 5;
+    let mut overrides: Vec<Override> = Vec::new();
     let mut path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes/robbit.toml");
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -33,12 +34,16 @@ fn main() -> ExitCode {
                 Some(r) if r > 0 => runs = r,
                 _ => return usage(),
             },
+            "--set" => match args.next().and_then(|v| v.parse().ok()) {
+                Some(o) => overrides.push(o),
+                None => return usage(),
+            },
             "-h" | "--help" => return usage(),
             s if s.starts_with('-') => return usage(),
             _ => path = arg.into(),
         }
     }
-    let scene = match hopsim_scene::load(&path, &[]) {
+    let scene = match hopsim_scene::load(&path, &overrides) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
