@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Peer benchmarks (docs/performance.md): hopsim's Lemke against Siconos' C lexicographic
 # Lemke on the same .dat LCPs, and hopsim's Robbit run against MuJoCo's native rollout of an
-# equivalent planar model, interleaved in one run; prints one table.
+# equivalent planar model, and both stepping gymnasium's hopper.xml, interleaved in one run;
+# prints the tables.
 #
 #   bash benches/peers/run.sh [bench.py options]     (or: just bench-peers)
 #
@@ -51,19 +52,19 @@ say "Siconos numerics $(dpkg-query -W -f='${Version}' libsiconos-numerics-dev 2>
 
 # --- MuJoCo (Python package, native rollout) -------------------------------------------
 python=python3
-has_mujoco() { "$1" -c 'import mujoco, mujoco.rollout, numpy' 2>/dev/null; }
+has_mujoco() { "$1" -c 'import mujoco, mujoco.rollout, numpy, gymnasium' 2>/dev/null; }
 if ! has_mujoco "$python"; then
     venv="$build/venv"
     if [[ -x "$venv/bin/python" ]] && has_mujoco "$venv/bin/python"; then
         python="$venv/bin/python"
     elif no_install; then
-        die "MuJoCo's Python package is missing; install it with: python3 -m pip install 'mujoco>=3.2'"
+        die "MuJoCo's Python package is missing; install it with: python3 -m pip install 'mujoco>=3.2' gymnasium"
     else
         say "installing mujoco with pip"
-        if ! python3 -m pip install -q 'mujoco>=3.2' || ! has_mujoco python3; then
+        if ! python3 -m pip install -q 'mujoco>=3.2' gymnasium || ! has_mujoco python3; then
             say "pip into $(command -v python3) failed; trying a venv in $venv"
-            python3 -m venv "$venv" && "$venv/bin/python" -m pip install -q 'mujoco>=3.2' \
-                || die "could not install mujoco; install it with: python3 -m pip install 'mujoco>=3.2' (needs python3-venv for the fallback)"
+            python3 -m venv "$venv" && "$venv/bin/python" -m pip install -q 'mujoco>=3.2' gymnasium \
+                || die "could not install mujoco; install it with: python3 -m pip install 'mujoco>=3.2' gymnasium (needs python3-venv for the fallback)"
             python="$venv/bin/python"
         fi
         has_mujoco "$python" || die "mujoco installed but 'import mujoco.rollout' still fails in $python"

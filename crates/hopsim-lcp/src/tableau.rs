@@ -980,4 +980,129 @@ mod tests {
         assert_eq!(b.as_slice().as_ptr() as usize % 64, 0);
         assert!(b.as_slice().len() >= 1000);
     }
+
+    /// `‖M‖_∞` is the largest row sum, in whichever lane it sits; a non-finite row sum,
+    /// or row sums whose total overflows, give +∞ (the caller's sign of a bad matrix).
+    #[test]
+    fn the_norm_of_row_sums_is_their_maximum_or_infinite() {
+        let mut sums = [0.0; 12];
+        for top in 0..12 {
+            for (i, s) in sums.iter_mut().enumerate() {
+                *s = 1.0 + 0.25 * i as f64 * (i != top) as u8 as f64 / 12.0;
+            }
+            sums[top] = 7.5;
+            assert_eq!(norm_of_row_sums(&sums), 7.5, "largest in row {top}");
+        }
+        for bad in [f64::INFINITY, f64::NAN] {
+            for at in 0..8 {
+                let mut sums = [1.0; 8];
+                sums[at] = bad;
+                assert_eq!(norm_of_row_sums(&sums), f64::INFINITY, "{bad} in row {at}");
+            }
+        }
+        // Finite row sums whose total overflows: in one lane, in two lanes of one pair,
+        // in the two pairs.
+        let big = 1e308;
+        for sums in [
+            [big, 0.0, 0.0, 0.0, big, 0.0, 0.0, 0.0],
+            [big, big, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [big, 0.0, big, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, big, 0.0, big, 0.0, 0.0, 0.0, 0.0],
+        ] {
+            assert_eq!(norm_of_row_sums(&sums), f64::INFINITY, "{sums:?}");
+        }
+        // Large lanes whose products would overflow but whose total does not.
+        let sums = [1e200, 0.0, 1e200, 0.0, 0.0, 0.0, 0.0, 0.0];
+        assert_eq!(norm_of_row_sums(&sums), 1e200);
+        assert_eq!(norm_of_row_sums(&[0.0; 4]), 0.0);
+    }
+
+    /// `load` writes the scaled right-hand side and the starting basis (every `w` basic,
+    /// every `z` and `z0` non-basic, in order), and returns the reciprocal power of two of
+    /// the norm.
+    #[test]
+    fn load_sets_the_starting_tableau() {
+        for n in [1, 2, 3, 5, 8, 13] {
+            let mut work = Work::default();
+            work.reserve(n);
+            let mut t = work.parts(n);
+            t.basis.fill(usize::MAX);
+            t.nonbasic.fill(usize::MAX);
+            t.nb_pos.fill(7);
+            let q: Vec<f64> = (0..n).map(|i| i as f64 - 2.5).collect();
+            assert_eq!(load(n, &mut t, &q, 0.25, 12.0), 0.125);
+            for i in 0..n {
+                assert_eq!(t.tab[i], 0.25 * q[i]);
+                assert_eq!(t.basis[i], i);
+                assert_eq!(t.nb_pos[i], usize::MAX, "w_{i} is basic");
+            }
+            for k in 0..=n {
+                assert_eq!(t.nonbasic[k], n + k);
+                assert_eq!(t.nb_pos[n + k], k);
+            }
+        }
+    }
+
+    /// `extract` unscales the basic values into `w` and `z` by their own factors, leaves
+    /// the non-basic ones (and `z0`) at zero, and flags values that overflow when unscaled
+    /// or whose total does.
+    #[test]
+    fn extract_unscales_the_basic_values_and_flags_overflow() {
+        let n = 3;
+        let mut work = Work::default();
+        work.reserve(n);
+        let mut t = work.parts(n);
+        // Row 0: z_2; row 1: w_0; row 2: z0 (its value belongs to neither).
+        t.basis.copy_from_slice(&[n + 2, 0, 2 * n]);
+        t.tab[..n].copy_from_slice(&[3.0, 5.0, 7.0]);
+        let scales = Scales::new(1.0, 0.5, 4.0);
+        let (mut z, mut w) = ([9.0; 3], [9.0; 3]);
+        assert!(extract(n, &t, &scales, &mut z, &mut w));
+        assert_eq!(z, [0.0, 0.0, 3.0 * 0.5 * 4.0]);
+        assert_eq!(w, [5.0 * 4.0, 0.0, 0.0]);
+        // Finite in the tableau, infinite unscaled.
+        t.tab[..n].copy_from_slice(&[3.0, 1e308, 7.0]);
+        assert!(!extract(n, &t, &scales, &mut z, &mut w));
+        // Each finite, their total not.
+        let unit = Scales::new(1.0, 1.0, 1.0);
+        t.basis.copy_from_slice(&[n, 1, 0]);
+        t.tab[..n].copy_from_slice(&[1e308, 1e308, 1.0]);
+        assert!(!extract(n, &t, &unit, &mut z, &mut w));
+        assert_eq!((z[0], w[1], w[0]), (1e308, 1e308, 1.0));
+    }
+
+    /// The ratio test on the starting tableau (`B⁻¹ = I`): the row of the smallest ratio
+    /// `rhs_i / col_i` among entries above the pivot tolerance; a ratio a hair above the
+    /// minimum is no tie; an exact tie goes to the lexicographic rule, which on `B⁻¹ = I`
+    /// keeps the row whose basic `w` has the largest index.
+    #[test]
+    fn the_ratio_test_takes_the_smallest_ratio_and_breaks_exact_ties() {
+        let n = 3;
+        let ld = leading_dim(n);
+        let mut work = Work::default();
+        work.reserve(n);
+        let mut t = work.parts(n);
+        load(n, &mut t, &[0.0; 3], 1.0, 1.0);
+        let mut ties = [0; 3];
+        let mut ratio = |rhs: [f64; 3], col: [f64; 3], tol: f64| {
+            t.tab[..n].copy_from_slice(&rhs);
+            let lex = Lex {
+                ld,
+                tab: t.tab,
+                basis: t.basis,
+                nb_pos: t.nb_pos,
+            };
+            lex_min_ratio(n, lex, &col, tol, false, usize::MAX, &mut ties)
+        };
+        // Ratios 1, 1 + 1e-3, 2: row 0.
+        assert_eq!(ratio([1.0, 1.001, 4.0], [1.0, 1.0, 2.0], 0.0), Some(0));
+        assert_eq!(ratio([1.001, 1.0, 4.0], [1.0, 1.0, 2.0], 0.0), Some(1));
+        // An entry equal to the tolerance cannot pivot, one above it can.
+        assert_eq!(ratio([0.0, 1.0, 2.0], [0.5, 1.0, 1.0], 0.5), Some(1));
+        assert_eq!(ratio([0.0, 1.0, 1.0], [0.5, 0.5, 0.5], 0.5), None);
+        assert_eq!(ratio([0.0, 1.0, 1.0], [0.6, 0.5, 0.5], 0.5), Some(0));
+        // Exact ties at ratio 1: the lexicographic rule drops rows 0, then 1.
+        assert_eq!(ratio([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], 0.0), Some(2));
+        assert_eq!(ratio([1.0, 2.0, 5.0], [1.0, 2.0, 3.0], 0.0), Some(1));
+    }
 }
