@@ -7,6 +7,9 @@ Reads a JSON request on stdin and prints a JSON answer:
   each model and state, MuJoCo's mass matrix (`mj_fullM`) and `qfrc_passive − qfrc_bias`
   after `mj_forward`; for a drop, MuJoCo's own run from `q` at rest for `duration` seconds:
   the final `qpos`, the deepest contact (`contact.dist`) and the total normal force.
+- {"free": [{"path", "q", "u", "duration", "dt"}]}: MuJoCo's RK4 at `dt` from `(q, u)` with
+  contacts, joint limits and joint friction disabled (a free motion): the final `qpos`,
+  `qvel`.
 Prints {"skip": reason} when mujoco cannot be imported.
 """
 import json
@@ -72,6 +75,20 @@ def dynamics(mujoco, np, request):
     return out
 
 
+def free_motion(mujoco, request):
+    m = mujoco.MjModel.from_xml_path(request["path"])
+    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    m.opt.timestep = request["dt"]
+    m.opt.disableflags |= (mujoco.mjtDisableBit.mjDSBL_CONTACT | mujoco.mjtDisableBit.mjDSBL_LIMIT
+                           | mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS)
+    d = mujoco.MjData(m)
+    d.qpos[:] = request["q"]
+    d.qvel[:] = request["u"]
+    for _ in range(int(round(request["duration"] / request["dt"]))):
+        mujoco.mj_step(m, d)
+    return {"qpos": d.qpos.tolist(), "qvel": d.qvel.tolist(), "time": d.time}
+
+
 def main():
     try:
         import mujoco
@@ -82,6 +99,9 @@ def main():
     request = json.load(sys.stdin)
     if request.get("list"):
         print(json.dumps(listing(mujoco)))
+        return
+    if "free" in request:
+        print(json.dumps({"free": [free_motion(mujoco, r) for r in request["free"]]}))
         return
     print(json.dumps({"models": [dynamics(mujoco, np, r) for r in request["models"]]}))
 

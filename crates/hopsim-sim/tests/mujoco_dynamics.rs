@@ -9,6 +9,10 @@
 //! positions back) and no further; MuJoCo's soft contact, run on the same drop, is
 //! printed beside it.
 //!
+//! With contacts, joint ranges and joint friction off, a free motion from a random state
+//! matches MuJoCo's RK4 at a small step to the midpoint scheme's first-order error: the
+//! error at two step sizes shrinks at least in proportion to the step.
+//!
 //! Needs `python3` (or `HOPSIM_PYTHON`) with `mujoco`, `gymnasium` and `dm_control`
 //! (test-only; .ci/run installs them). Without them the test is skipped with a notice,
 //! unless HOPSIM_REQUIRE_PYTHON=1, which makes it fail.
@@ -313,4 +317,106 @@ fn imported_models_have_mujocos_dynamics_and_rest_on_the_floor() {
         worst.0,
         worst.1
     );
+}
+
+/// Free motion of every model (no terrain, joint ranges opened), from `qpos0` plus a draw,
+/// after [`FREE_DURATION`], by hopsim at `dt` and `dt / 2` against MuJoCo's RK4 at
+/// [`FREE_REFERENCE_DT`]: each error of `(q, u)`, relative to the motion's scale, stays
+/// within a first-order bound and falls at least like the step.
+const FREE_DURATION: f64 = 0.2;
+const FREE_REFERENCE_DT: f64 = 1e-5;
+/// (At 1e-3 s the inverted pendulum's error still falls by 0.66 per halving, its first-
+/// and second-order terms partly cancelling; from 5e-4 s on every model's falls by ≤ 0.56.)
+const FREE_DT: f64 = 5e-4;
+
+/// hopsim's state after a free motion of the model at `path` from `(q, u)`.
+fn free_motion(path: &Path, scene: &Scene, q: &[f64], u: &[f64], dt: f64) -> Vec<f64> {
+    let mut overrides: Vec<Override> = vec![
+        Override::new("simulation.dt", format!("{dt:?}")),
+        Override::new("simulation.duration", format!("{FREE_DURATION:?}")),
+    ];
+    overrides.push(Override::new("initial.q", format!("{q:?}")));
+    overrides.push(Override::new("initial.u", format!("{u:?}")));
+    for limit in scene.model.limits() {
+        let name = &scene.model.bodies()[limit.body].name;
+        overrides.push(Override::new(
+            format!("bodies.{name}.limits"),
+            "[-1e3, 1e3]",
+        ));
+    }
+    if !scene.model.terrain().features.is_empty() {
+        // The floor far below: nothing reaches it in the time.
+        overrides.push(Override::new("environment.height", "-1e3"));
+    }
+    let free = hopsim_scene::load(path, &overrides).unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = Simulation::new(&free);
+    let mut rest = Rest::default();
+    for _ in 0..(FREE_DURATION / dt).round() as usize {
+        sim.step(&mut rest)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    }
+    assert!(
+        rest.steps.iter().all(|&(_, vertical, _)| vertical == 0.0),
+        "{}: a contact closed in the free motion",
+        path.display()
+    );
+    let state = sim.state();
+    state.q.iter().chain(state.u.iter()).copied().collect()
+}
+
+#[test]
+fn free_motions_match_mujocos_rk4_to_first_order() {
+    let listing = match oracle(&json!({"list": true})) {
+        Ok(listing) => listing,
+        Err(why) => return unavailable(&why),
+    };
+    let mut draw = Draw(0x2545_F491_4F6C_DD1D);
+    let mut cases = Vec::new();
+    for path in listing["models"].as_array().unwrap() {
+        let path = Path::new(path.as_str().unwrap()).to_path_buf();
+        let scene = hopsim_scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+        let q: Vec<f64> = scene
+            .initial
+            .q
+            .iter()
+            .map(|x| x + 0.3 * draw.next())
+            .collect();
+        let u: Vec<f64> = q.iter().map(|_| 2.0 * draw.next()).collect();
+        cases.push((path, scene, q, u));
+    }
+    let request: Vec<Value> = cases
+        .iter()
+        .map(|(path, _, q, u)| {
+            json!({"path": path, "q": q, "u": u, "duration": FREE_DURATION,
+                   "dt": FREE_REFERENCE_DT})
+        })
+        .collect();
+    let answer = match oracle(&json!({ "free": request })) {
+        Ok(answer) => answer,
+        Err(why) => return unavailable(&why),
+    };
+    for ((path, scene, q, u), theirs) in cases.iter().zip(answer["free"].as_array().unwrap()) {
+        let reference: Vec<f64> = numbers(&theirs["qpos"])
+            .into_iter()
+            .chain(numbers(&theirs["qvel"]))
+            .collect();
+        let error = |dt: f64| relative(&free_motion(path, scene, q, u, dt), &reference);
+        let (coarse, fine) = (error(FREE_DT), error(FREE_DT / 2.0));
+        eprintln!(
+            "{}: free motion for {FREE_DURATION} s, error relative to the state's scale: \
+             {coarse:.2e} at dt = {FREE_DT:e} s, {fine:.2e} at {:e} s",
+            path.display(),
+            FREE_DT / 2.0
+        );
+        assert!(
+            coarse < 0.05,
+            "{}: {coarse:e} off MuJoCo's RK4 at dt = {FREE_DT:e}",
+            path.display()
+        );
+        assert!(
+            fine <= 0.6 * coarse,
+            "{}: the error does not fall like the step: {coarse:e} at dt, {fine:e} at dt/2",
+            path.display()
+        );
+    }
 }
