@@ -1073,8 +1073,10 @@ mod tests {
 
     /// The ratio test on the starting tableau (`B⁻¹ = I`): the row of the smallest ratio
     /// `rhs_i / col_i` among entries above the pivot tolerance; a ratio a hair above the
-    /// minimum is no tie; an exact tie goes to the lexicographic rule, which on `B⁻¹ = I`
-    /// keeps the row whose basic `w` has the largest index.
+    /// minimum is no tie, also where the ratios are tiny; an exact tie goes to the preferred
+    /// row (z0's) if it is among them, else to the lexicographic rule, which on `B⁻¹ = I`
+    /// keeps the row whose basic `w` has the largest index; with `clamp`, negative
+    /// right-hand sides count as zero (so they tie).
     #[test]
     fn the_ratio_test_takes_the_smallest_ratio_and_breaks_exact_ties() {
         let n = 3;
@@ -1084,7 +1086,7 @@ mod tests {
         let mut t = work.parts(n);
         load(n, &mut t, &[0.0; 3], 1.0, 1.0);
         let mut ties = [0; 3];
-        let mut ratio = |rhs: [f64; 3], col: [f64; 3], tol: f64| {
+        let mut test = |rhs: [f64; 3], col: [f64; 3], tol: f64, clamp: bool, prefer: usize| {
             t.tab[..n].copy_from_slice(&rhs);
             let lex = Lex {
                 ld,
@@ -1092,11 +1094,17 @@ mod tests {
                 basis: t.basis,
                 nb_pos: t.nb_pos,
             };
-            lex_min_ratio(n, lex, &col, tol, false, usize::MAX, &mut ties)
+            lex_min_ratio(n, lex, &col, tol, clamp, prefer, &mut ties)
         };
+        let mut ratio = |rhs, col, tol| test(rhs, col, tol, false, usize::MAX);
         // Ratios 1, 1 + 1e-3, 2: row 0.
         assert_eq!(ratio([1.0, 1.001, 4.0], [1.0, 1.0, 2.0], 0.0), Some(0));
         assert_eq!(ratio([1.001, 1.0, 4.0], [1.0, 1.0, 2.0], 0.0), Some(1));
+        // Ratios 1, 2, 5 from entries of 1e-12: no tie (the tie tolerance scales with them).
+        assert_eq!(
+            ratio([1e-12, 2e-12, 5.0], [1e-12, 1e-12, 1.0], 0.0),
+            Some(0)
+        );
         // An entry equal to the tolerance cannot pivot, one above it can.
         assert_eq!(ratio([0.0, 1.0, 2.0], [0.5, 1.0, 1.0], 0.5), Some(1));
         assert_eq!(ratio([0.0, 1.0, 1.0], [0.5, 0.5, 0.5], 0.5), None);
@@ -1104,5 +1112,23 @@ mod tests {
         // Exact ties at ratio 1: the lexicographic rule drops rows 0, then 1.
         assert_eq!(ratio([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], 0.0), Some(2));
         assert_eq!(ratio([1.0, 2.0, 5.0], [1.0, 2.0, 3.0], 0.0), Some(1));
+        // The preferred row wins a tie it is in, and only then.
+        assert_eq!(
+            test([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], 0.0, false, 1),
+            Some(1)
+        );
+        assert_eq!(
+            test([1.0, 2.5, 3.0], [1.0, 2.0, 3.0], 0.0, false, 1),
+            Some(2)
+        );
+        // Negative right-hand sides: the smallest ratio, or, clamped, a tie at zero.
+        assert_eq!(
+            test([-1.0, -0.5, 1.0], [1.0, 1.0, 1.0], 0.0, false, usize::MAX),
+            Some(0)
+        );
+        assert_eq!(
+            test([-1.0, -0.5, 1.0], [1.0, 1.0, 1.0], 0.0, true, usize::MAX),
+            Some(1)
+        );
     }
 }
