@@ -1114,7 +1114,10 @@ mod tests {
         assert_eq!(ratio([1.0, 2.0, 5.0], [1.0, 2.0, 3.0], 0.0), Some(1));
         // A row at the tolerance is no tie either, nor a preferred row there.
         assert_eq!(ratio([0.0, 0.0, 1.0], [1.0, 0.5, 1.0], 0.5), Some(0));
-        assert_eq!(test([1.0, 0.0, 2.0], [1.0, 0.5, 1.0], 0.5, false, 1), Some(0));
+        assert_eq!(
+            test([1.0, 0.0, 2.0], [1.0, 0.5, 1.0], 0.5, false, 1),
+            Some(0)
+        );
         // The preferred row wins a tie it is in, and only then.
         assert_eq!(
             test([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], 0.0, false, 1),

@@ -32,3 +32,30 @@ pub(crate) fn capsule_signed_distance(
     let outward = d.try_normalize(1e-12 * (1.0 + axis.norm()))?;
     Some((length - radius, axis + radius * outward, outward))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point on the segment has no outward direction, wherever the segment lies; one
+    /// just off it, beyond round-off of its coordinates, has one.
+    #[test]
+    fn a_point_on_the_segment_has_no_normal() {
+        for (from, to) in [
+            (Vec2::new(-1.0, 0.0), Vec2::new(1.0, 0.0)),
+            (Vec2::new(3.0, 4.0), Vec2::new(7.0, 4.0)),
+        ] {
+            let middle = 0.5 * (from + to);
+            assert_eq!(capsule_signed_distance(from, to, 0.1, middle), None);
+            // Within the round-off of the middle's coordinates (1e-12 of 1 + |middle|).
+            let scale = 1.0 + middle.norm();
+            let near = middle + Vec2::new(0.0, 0.4e-12 * scale);
+            assert_eq!(capsule_signed_distance(from, to, 0.1, near), None);
+            let off = middle + Vec2::new(0.0, 1e-9);
+            let (gap, point, normal) = capsule_signed_distance(from, to, 0.1, off).unwrap();
+            assert!((gap - (1e-9 - 0.1)).abs() < 1e-15);
+            assert_eq!(normal, Vec2::new(0.0, 1.0));
+            assert!((point - (middle + Vec2::new(0.0, 0.1))).norm() < 1e-15);
+        }
+    }
+}

@@ -638,6 +638,10 @@ proptest! {
         prop_assert!((g.gap - ((centre - origin).dot(&normal) - radius)).abs() < 1e-12);
         prop_assert!((g.point - (centre - radius * normal)).norm() < 1e-12);
         prop_assert_eq!(g.normal, normal);
+        // The tangent: the normal turned by −90°, `+x` on flat ground (docs/physics.md §2).
+        let t = g.tangent();
+        prop_assert_eq!(t, Vec2::new(normal.y, -normal.x));
+        prop_assert!(slope != 0.0 || t == Vec2::new(1.0, 0.0));
     }
 }
 
