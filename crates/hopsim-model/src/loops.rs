@@ -241,10 +241,13 @@ impl Model {
     }
 
     /// The largest loop error `max |φ|` at `kinematics` (m, or rad for a weld's angle),
-    /// with the residuals left in `phi`; 0 without loops.
+    /// with the residuals left in the first [`Model::loop_row_count`] entries of `phi`; 0
+    /// without loops.
     pub fn loop_error(&self, kinematics: &Kinematics, phi: &mut [f64]) -> f64 {
         self.loop_residuals_to(kinematics, phi);
-        phi.iter().fold(0.0, |m: f64, v| m.max(v.abs()))
+        phi[..self.loop_rows]
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs()))
     }
 
     /// `θ_A − θ_B` of `joint` (`θ_B = 0` for the world).
