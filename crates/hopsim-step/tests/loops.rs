@@ -2,8 +2,11 @@
 //! position analysis, its energy account, a redundant parallelogram, a singular
 //! configuration as an error, and random four-bars.
 
+mod common;
+
+use common::bar;
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, Kinematics, LoopJoint, LoopKind, Model,
+    ContactMaterial, Joint, JointCoordinate, Kinematics, LoopJoint, LoopKind, Model,
     ModelBuilder, Terrain, Vec2,
 };
 use hopsim_step::{Actuation, State, StepError, StepSettings, Stepper};
@@ -20,61 +23,10 @@ struct FourBar {
     d: f64,
 }
 
-/// A uniform bar of length `l` and mass `m`: its inertia about its centre.
-fn bar(name: &str, l: f64, m: f64, joint: Joint) -> Body {
-    let mut body = Body::base(name, m, m * l * l / 12.0);
-    body.joint = Some(joint);
-    body
-}
-
 impl FourBar {
-    /// Coordinates `(θ_2, θ_3 − θ_2, θ_4)`: the crank's angle, the coupler's relative to it,
-    /// the rocker's; the loop closes the coupler's end on the rocker's. `crank_inertia`
-    /// replaces the crank's own (a flywheel on it).
+    /// The model of [`common::four_bar`]: coordinates `(θ_2, θ_3 − θ_2, θ_4)`.
     fn model(&self, gravity: f64, crank_inertia: Option<f64>) -> Model {
-        let mut crank = bar(
-            "crank",
-            self.a,
-            1.0,
-            Joint::revolute(None, Vec2::zeros(), Vec2::new(self.a / 2.0, 0.0)),
-        );
-        if let Some(i) = crank_inertia {
-            crank.inertia = i;
-        }
-        let coupler = bar(
-            "coupler",
-            self.b,
-            1.0,
-            Joint::revolute(
-                Some(0),
-                Vec2::new(self.a / 2.0, 0.0),
-                Vec2::new(self.b / 2.0, 0.0),
-            ),
-        );
-        let mut rocker_joint =
-            Joint::revolute(None, Vec2::new(self.d, 0.0), Vec2::new(self.c / 2.0, 0.0));
-        rocker_joint.coordinate = JointCoordinate::Absolute;
-        let rocker = bar("rocker", self.c, 1.0, rocker_joint);
-        let mut builder = ModelBuilder::new(
-            vec![crank, coupler, rocker],
-            vec![],
-            Terrain::flat(-100.0),
-            vec![],
-            Vec2::new(0.0, -gravity),
-            ContactMaterial::inelastic(0.0),
-        )
-        .unwrap();
-        builder
-            .add_loop(LoopJoint {
-                name: "coupler-rocker".into(),
-                body_a: 1,
-                point_a: Vec2::new(self.b / 2.0, 0.0),
-                body_b: Some(2),
-                point_b: Vec2::new(self.c / 2.0, 0.0),
-                kind: LoopKind::Revolute,
-            })
-            .unwrap();
-        builder.build()
+        common::four_bar([self.a, self.b, self.c, self.d], gravity, crank_inertia)
     }
 
     /// The closed-form position analysis: the rocker angle `θ_4` and the coupler angle
