@@ -94,7 +94,9 @@ pub(crate) fn check_loop(
         return Err(bad("body_a and body_b are the same body"));
     }
     if fixed(joint.body_a) && joint.body_b.is_none_or(&fixed) {
-        return Err(bad("it joins nothing that moves (fixed bodies or the world)"));
+        return Err(bad(
+            "it joins nothing that moves (fixed bodies or the world)",
+        ));
     }
     let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
     if !finite(joint.point_a) || !finite(joint.point_b) {
@@ -191,7 +193,9 @@ impl Model {
                     let turn = self.loop_angle(kinematics, joint) - angle;
                     phi[r..r + 3].copy_from_slice(&[d.x, d.y, turn]);
                 }
-                LoopKind::Slot { axis } => phi[r] = self.slot_normal(kinematics, joint, axis).dot(&d),
+                LoopKind::Slot { axis } => {
+                    phi[r] = self.slot_normal(kinematics, joint, axis).dot(&d)
+                }
             }
             r += joint.kind.rows();
         }
@@ -222,7 +226,11 @@ impl Model {
                 }
                 LoopKind::Distance { .. } => {
                     let length = d.norm();
-                    let e = if length > 0.0 { d / length } else { Vec2::zeros() };
+                    let e = if length > 0.0 {
+                        d / length
+                    } else {
+                        Vec2::zeros()
+                    };
                     point_row(r, e, b.offset);
                 }
                 LoopKind::Slot { axis } => {

@@ -25,7 +25,9 @@ pub(crate) fn read_loops(
     check_count(tables, MAX_LOOPS, "loops", "")?;
     let mut names = Names::new(("loop", "loops"));
     for (i, t) in tables.iter().enumerate() {
-        let name = t.opt_str("name")?.map_or(format!("loop{i}"), str::to_string);
+        let name = t
+            .opt_str("name")?
+            .map_or(format!("loop{i}"), str::to_string);
         names.add(t, "name", &name)?;
         let kind = match t.choice("type", &["revolute", "distance", "weld", "slot"], None)? {
             "revolute" => LoopKind::Revolute,
@@ -50,7 +52,10 @@ pub(crate) fn read_loops(
             Some(WORLD) if bodies.find(WORLD).is_none() => None,
             Some(_) => Some(bodies.resolve(t, "body_b")?),
         };
-        let point = |key| t.vec2(key, Some([0.0; 2]), "m").map(|p| Vec2::new(p[0], p[1]));
+        let point = |key| {
+            t.vec2(key, Some([0.0; 2]), "m")
+                .map(|p| Vec2::new(p[0], p[1]))
+        };
         let joint = LoopJoint {
             name,
             body_a: bodies.resolve(t, "body_a")?,
@@ -64,10 +69,7 @@ pub(crate) fn read_loops(
             .map_err(|e| t.error_at_key("body_b", e.to_string()))?;
         for key in ["length", "angle", "axis"] {
             if t.get(key).is_some() && !expects(kind, key) {
-                return Err(t.error_at_key(
-                    key,
-                    format!("a {} loop has no '{key}'", kind.as_str()),
-                ));
+                return Err(t.error_at_key(key, format!("a {} loop has no '{key}'", kind.as_str())));
             }
         }
         t.finish()?;
@@ -89,7 +91,11 @@ fn expects(kind: LoopKind, key: &str) -> bool {
 /// error or loop velocity exceeds [`START_LOOP_TOLERANCE`] is an error at `[initial]` with
 /// the gap, the loop and the assembled start (when the projection finds one); a start
 /// within it is assembled exactly.
-pub(crate) fn close_start(init: &Table<'_>, model: &Model, state: &mut State) -> Result<(), SceneError> {
+pub(crate) fn close_start(
+    init: &Table<'_>,
+    model: &Model,
+    state: &mut State,
+) -> Result<(), SceneError> {
     if model.loops().is_empty() {
         return Ok(());
     }
@@ -125,7 +131,10 @@ pub(crate) fn close_start(init: &Table<'_>, model: &Model, state: &mut State) ->
         let name = &model.loops()[model.loop_of_row(gap_row)].name;
         let offer = match &closed {
             Ok(_) => format!("; an assembled start is q = {}", list(&assembled.q)),
-            Err(e) => format!("; no assembled start was found near it ({e})"),
+            Err(_) => "; no assembled start was found near it (the projection onto the \
+                       closure did not converge: is the mechanism near a singular \
+                       configuration?)"
+                .to_string(),
         };
         (
             "q",

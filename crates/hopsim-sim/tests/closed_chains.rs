@@ -71,7 +71,12 @@ fn the_four_bar_rocker_follows_the_closed_form() {
         worst = worst.max(wrapped(s.q[2], rocker_angle(links, s.q[0])).abs());
         lowest = lowest.min(s.q[2]);
         highest = highest.max(s.q[2]);
-        assert!(s.balance.abs() <= 1e-2 * s.scale, "t = {}: {}", s.t, s.balance);
+        assert!(
+            s.balance.abs() <= 1e-2 * s.scale,
+            "t = {}: {}",
+            s.t,
+            s.balance
+        );
     }
     let last = samples.last().unwrap();
     eprintln!(
@@ -86,7 +91,10 @@ fn the_four_bar_rocker_follows_the_closed_form() {
     assert!(last.q[0] / TAU > 9.0);
     assert!(worst <= 1e-9, "{worst}");
     // The rocker's limit angles of the closed form (70.529° and 126.870°).
-    assert!((lowest.to_degrees() - 70.529).abs() < 0.01 && (highest.to_degrees() - 126.870).abs() < 0.01);
+    assert!(
+        (lowest.to_degrees() - 70.529).abs() < 0.01
+            && (highest.to_degrees() - 126.870).abs() < 0.01
+    );
 }
 
 /// docs/classics.md §4, ideal joint: the free crank's first revolution takes 0.067887 s and
@@ -105,7 +113,10 @@ fn the_ideal_slider_crank_matches_the_reduced_equation() {
         .iter()
         .min_by(|x, y| x.u[0].total_cmp(&y.u[0]))
         .unwrap();
-    let drift = samples.iter().map(|s| (s.total - initial).abs()).fold(0.0, f64::max);
+    let drift = samples
+        .iter()
+        .map(|s| (s.total - initial).abs())
+        .fold(0.0, f64::max);
     eprintln!(
         "ideal slider-crank: first revolution {revolution:.6} s, slowest {:.3} rad/s at \
          {:.2}°, energy {initial:.6} J, largest drift {drift:.2e} J",

@@ -173,8 +173,7 @@ impl EnergyLedger {
     /// Energy dissipated so far by impacts, friction, joint stops, locks, loop joints and
     /// damping (≥ 0 when passive).
     pub fn dissipated(&self) -> f64 {
-        -(self.contact_work + self.limit_work + self.lock_work + self.damping_work)
-            - self.loop_work
+        -(self.contact_work + self.limit_work + self.lock_work + self.damping_work) - self.loop_work
     }
 
     /// What the account fails to explain: `ΔE - W_actuators + dissipated - projection`.

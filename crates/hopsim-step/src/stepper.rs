@@ -15,8 +15,8 @@ mod loops;
 mod pairs;
 
 use layout::{at, Layout};
-use loops::{LoopProjection, DEPENDENT_LOOP_ROWS};
 pub use loops::LOOP_TOLERANCE;
+use loops::{LoopProjection, DEPENDENT_LOOP_ROWS};
 
 /// Settings of the stepper.
 #[derive(Clone, Debug)]
@@ -89,12 +89,14 @@ pub enum StepError {
     #[error("step {step} (t = {t:.6} s): the velocity locks are redundant or singular")]
     SingularLocks { step: u64, t: f64 },
     /// A loop joint's rows lost rank (the mechanism reached a singular configuration) or
-    /// the projection onto its closure did not converge (docs/physics.md §8.4).
-    #[error("step {step} (t = {t:.6} s): loop '{name}' {}, loop error {error:.3e}", if *.singular { "reached a singular configuration (its rows lost rank)" } else { "could not be closed (the projection did not converge)" })]
+    /// the projection onto its closure did not converge (docs/physics.md §8.4). The loop is
+    /// an index into `Model::loops` (plain data, so that a step's `Result` stays cheap);
+    /// the run loop names it (`hopsim_sim::RunError::Loop`).
+    #[error("step {step} (t = {t:.6} s): loop joint {loop_index} {}, loop error {error:.3e}", loop_failure(*.singular))]
     Loop {
         step: u64,
         t: f64,
-        name: String,
+        loop_index: usize,
         singular: bool,
         error: f64,
     },
@@ -106,6 +108,15 @@ pub enum StepError {
         contacts: usize,
         status: &'static str,
     },
+}
+
+/// What went wrong with a loop joint, in words (see [`StepError::Loop`]).
+pub fn loop_failure(singular: bool) -> &'static str {
+    if singular {
+        "reached a singular configuration (its rows lost rank)"
+    } else {
+        "could not be closed (the projection did not converge)"
+    }
 }
 
 /// The time-stepper: reused buffers for one model, so a step allocates nothing.
@@ -388,7 +399,7 @@ impl Stepper {
         let (q, u) = (state.q.as_mut_slice(), state.u.as_mut_slice());
         loops
             .project(model, &mut self.kinematics, q, u)
-            .map_err(|failure| failure.into_error(model, 0, state.t))?;
+            .map_err(|failure| failure.into_error(0, state.t))?;
         Ok(gap)
     }
 
@@ -614,23 +625,31 @@ impl Stepper {
         self.locks.brakes = actuation.locks.len();
         self.locks.count = self.locks.brakes + self.locks.loop_rows;
         if self.locks.count > 0 {
-            if let Err(row) = self
-                .locks
-                .prepare(model, &self.kinematics, &self.factor, &actuation.locks)
+            if let Err(row) =
+                self.locks
+                    .prepare(model, &self.kinematics, &self.factor, &actuation.locks)
             {
-                return Err(match row.checked_sub(self.locks.brakes) {
-                    Some(r) => StepError::Loop {
-                        step,
-                        t,
-                        name: model.loops()[model.loop_of_row(r)].name.clone(),
-                        singular: true,
-                        error: model.loop_error(&self.kinematics, &mut self.scratch),
-                    },
-                    None => StepError::SingularLocks { step, t },
-                });
+                return Err(self.singular_equalities(model, row, step, t));
             }
         }
         Ok(())
+    }
+
+    /// The error of a step whose equality row `row` is dependent on the others: a loop's
+    /// (a singular configuration, docs/physics.md §8.3) or a brake's (redundant locks).
+    #[cold]
+    #[inline(never)]
+    fn singular_equalities(&mut self, model: &Model, row: usize, step: u64, t: f64) -> StepError {
+        match row.checked_sub(self.locks.brakes) {
+            Some(r) => StepError::Loop {
+                step,
+                t,
+                loop_index: model.loop_of_row(r),
+                singular: true,
+                error: model.loop_error(&self.kinematics, &mut self.scratch),
+            },
+            None => StepError::SingularLocks { step, t },
+        }
     }
 
     /// Stage 4, docs/physics.md §4.1 step 2: the index set `H` (enabled contacts with
@@ -1199,20 +1218,29 @@ impl Stepper {
         }
         self.record.locks.clear();
         if self.locks.count > 0 {
-            self.lock_force::<N>();
-            let work = dot(&self.force, &self.scratch[..n]);
-            if self.locks.loop_rows == 0 {
-                self.record.energy.lock_work += work;
-            } else {
-                // The brakes' share is their impulses times their rows' mean velocity; the
-                // loops' percussions did the rest (docs/physics.md §8.2).
-                let brakes = self.brake_work::<N>();
-                self.record.energy.lock_work += brakes;
-                self.record.energy.loop_work += work - brakes;
-            }
-            if !actuation.locks.is_empty() {
-                self.push_lock_records(actuation);
-            }
+            self.equality_works::<N>(actuation);
+        }
+    }
+
+    /// The works of the equality rows' percussions (brakes, loop joints) into the ledger,
+    /// and the brakes' impulses into the record (see [`Stepper::add_works`]; the mean
+    /// velocity is in `scratch`). Out of line: most steps have no equality rows.
+    #[inline(never)]
+    fn equality_works<const N: usize>(&mut self, actuation: &Actuation) {
+        let n = dof::<N>(self.n);
+        self.lock_force::<N>();
+        let work = dot(&self.force, &self.scratch[..n]);
+        if self.locks.loop_rows == 0 {
+            self.record.energy.lock_work += work;
+        } else {
+            // The brakes' share is their impulses times their rows' mean velocity; the
+            // loops' percussions did the rest (docs/physics.md §8.2).
+            let brakes = self.brake_work::<N>();
+            self.record.energy.lock_work += brakes;
+            self.record.energy.loop_work += work - brakes;
+        }
+        if !actuation.locks.is_empty() {
+            self.push_lock_records(actuation);
         }
     }
 
@@ -1234,7 +1262,9 @@ impl Stepper {
 
     /// Stage 8b, only for a model with loop joints (docs/physics.md §8.4): the end state
     /// projected onto the loops' closure and its tangent space, the loop error into the
-    /// record and, with the energy account, the projection's change of energy.
+    /// record and, with the energy account, the projection's change of energy. Kept out of
+    /// line: a tree model's steps never call it.
+    #[inline(never)]
     fn close_loops(
         &mut self,
         model: &Model,
@@ -1257,7 +1287,7 @@ impl Stepper {
         let (q, u) = (state.q.as_mut_slice(), state.u.as_mut_slice());
         match loops.project(model, &mut self.kinematics, q, u) {
             Ok(error) => self.record.loop_error = error,
-            Err(failure) => return Err(failure.into_error(model, step, t)),
+            Err(failure) => return Err(failure.into_error(step, t)),
         }
         if self.ledger {
             self.record.energy.projection += energy(&self.kinematics) - before;

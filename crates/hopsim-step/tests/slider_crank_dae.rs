@@ -24,7 +24,11 @@ const DURATION: f64 = 1.0;
 /// `(θ, φ − θ, x)`: crank angle, rod angle relative to the crank, slider position.
 fn model() -> Model {
     let mut crank = Body::base("crank", M1, M1 * A * A / 12.0);
-    crank.joint = Some(Joint::revolute(None, Vec2::zeros(), Vec2::new(A / 2.0, 0.0)));
+    crank.joint = Some(Joint::revolute(
+        None,
+        Vec2::zeros(),
+        Vec2::new(A / 2.0, 0.0),
+    ));
     let mut rod = Body::base("rod", M2, M2 * B * B / 12.0);
     rod.joint = Some(Joint::revolute(
         Some(0),
@@ -123,7 +127,9 @@ fn error_at(dt: f64, every: f64, reference: &[f64]) -> (f64, f64) {
     let (mut worst, mut loop_error) = (0.0_f64, 0.0_f64);
     for expected in &reference[1..] {
         for _ in 0..per {
-            let record = stepper.step(&model, &mut state, &Actuation::default()).unwrap();
+            let record = stepper
+                .step(&model, &mut state, &Actuation::default())
+                .unwrap();
             loop_error = loop_error.max(record.loop_error);
         }
         worst = worst.max((state.q[0] - expected).abs());
@@ -137,7 +143,11 @@ fn the_ideal_slider_crank_agrees_with_its_reduced_equation_to_first_order() {
     let samples = (DURATION / every).round() as usize;
     let reference = reference(every, samples);
     // The reference turns the crank more than once (it is not a standstill).
-    assert!(reference[samples] > std::f64::consts::TAU, "{}", reference[samples]);
+    assert!(
+        reference[samples] > std::f64::consts::TAU,
+        "{}",
+        reference[samples]
+    );
     let (coarse, loop_coarse) = error_at(1e-3, every, &reference);
     let (fine, loop_fine) = error_at(5e-4, every, &reference);
     eprintln!(

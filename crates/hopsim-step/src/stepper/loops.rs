@@ -25,12 +25,12 @@ pub(crate) struct ProjectionFailure {
 }
 
 impl ProjectionFailure {
-    /// The step's error, naming the loop.
-    pub fn into_error(self, model: &Model, step: u64, t: f64) -> StepError {
+    /// The step's error.
+    pub fn into_error(self, step: u64, t: f64) -> StepError {
         StepError::Loop {
             step,
             t,
-            name: model.loops()[self.loop_index].name.clone(),
+            loop_index: self.loop_index,
             singular: self.singular,
             error: self.error,
         }
@@ -85,7 +85,8 @@ impl LoopProjection {
         self.factor.solve(&mut self.y);
         for r in 0..m {
             for c in 0..m {
-                self.s[r * m + c] = dot(&self.rows[r * n..(r + 1) * n], &self.y[c * n..(c + 1) * n]);
+                self.s[r * m + c] =
+                    dot(&self.rows[r * n..(r + 1) * n], &self.y[c * n..(c + 1) * n]);
             }
         }
         self.s_factor.factor(&self.s, m, DEPENDENT_LOOP_ROWS)

@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, LoopJoint, LoopKind, Model, ModelBuilder,
-    Shape, ShapeInstance, Terrain, Vec2,
+    Body, ContactMaterial, Joint, JointCoordinate, LoopJoint, LoopKind, Model, ModelBuilder, Shape,
+    ShapeInstance, Terrain, Vec2,
 };
 use hopsim_step::{Actuation, State, StepRecord, StepSettings, Stepper, TorqueCommand};
 use nalgebra::DVector;
