@@ -245,7 +245,8 @@ impl PivotedFactor {
                 .max_by(|&i, &j| d[i * n + i].total_cmp(&d[j * n + j]))
                 .unwrap_or(k);
             let pivot = d[p * n + p];
-            if !(pivot > rel_tol * largest) {
+            // Also stops at a NaN pivot.
+            if pivot.partial_cmp(&(rel_tol * largest)) != Some(std::cmp::Ordering::Greater) {
                 break;
             }
             if p != k {
