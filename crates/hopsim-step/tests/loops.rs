@@ -5,10 +5,7 @@
 mod common;
 
 use common::bar;
-use hopsim_model::{
-    ContactMaterial, Joint, JointCoordinate, Kinematics, LoopJoint, LoopKind, Model, ModelBuilder,
-    Terrain, Vec2,
-};
+use hopsim_model::{Joint, JointCoordinate, Kinematics, LoopJoint, LoopKind, Model, Vec2};
 use hopsim_step::{Actuation, State, StepError, StepSettings, Stepper};
 use nalgebra::DVector;
 use std::f64::consts::TAU;
@@ -175,28 +172,15 @@ fn a_parallelogram_with_a_redundant_bar_runs() {
         1.0,
         Joint::revolute(Some(0), Vec2::new(l / 2.0, 0.0), Vec2::new(span / 2.0, 0.0)),
     ));
-    let mut builder = ModelBuilder::new(
-        bodies,
-        vec![],
-        Terrain::flat(-100.0),
-        vec![],
-        Vec2::new(0.0, -9.81),
-        ContactMaterial::inelastic(0.0),
-    )
-    .unwrap();
-    for (i, at) in [(1, 0.0), (2, span / 2.0)] {
-        builder
-            .add_loop(LoopJoint {
-                name: format!("bar{i}"),
-                body_a: 3,
-                point_a: Vec2::new(at, 0.0),
-                body_b: Some(i),
-                point_b: Vec2::new(l / 2.0, 0.0),
-                kind: LoopKind::Revolute,
-            })
-            .unwrap();
-    }
-    let model = builder.build();
+    let loops = [(1, 0.0), (2, span / 2.0)].map(|(i, at)| LoopJoint {
+        name: format!("bar{i}"),
+        body_a: 3,
+        point_a: Vec2::new(at, 0.0),
+        body_b: Some(i),
+        point_b: Vec2::new(l / 2.0, 0.0),
+        kind: LoopKind::Revolute,
+    });
+    let model = common::closed_chain(bodies, 9.81, loops.to_vec());
     // Bars at 60°, the coupler horizontal (relative angle −60°), swinging.
     let up = 1.0_f64;
     let mut state = State {

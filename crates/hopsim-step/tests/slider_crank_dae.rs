@@ -3,8 +3,9 @@
 //! the crank angle (Lagrange's equation of the one-degree-of-freedom mechanism, integrated
 //! by RK4 at a tiny step): first-order agreement at two `Δt`, the error halving with `Δt`.
 
-use hopsim_model::{Body, ContactMaterial, Joint, JointKind, LoopJoint, LoopKind, ModelBuilder};
-use hopsim_model::{Model, Terrain, Vec2};
+mod common;
+
+use hopsim_model::{Body, Joint, JointKind, LoopJoint, LoopKind, Model, Vec2};
 use hopsim_step::{Actuation, State, StepSettings, Stepper};
 use nalgebra::DVector;
 
@@ -39,26 +40,18 @@ fn model() -> Model {
     let mut slide = Joint::revolute(None, Vec2::zeros(), Vec2::zeros());
     slide.kind = JointKind::Prismatic { axis: Vec2::x() };
     slider.joint = Some(slide);
-    let mut builder = ModelBuilder::new(
+    common::closed_chain(
         vec![crank, rod, slider],
-        vec![],
-        Terrain::flat(-100.0),
-        vec![],
-        Vec2::new(0.0, -G),
-        ContactMaterial::inelastic(0.0),
-    )
-    .unwrap();
-    builder
-        .add_loop(LoopJoint {
+        G,
+        vec![LoopJoint {
             name: "wrist pin".into(),
             body_a: 1,
             point_a: Vec2::new(B / 2.0, 0.0),
             body_b: Some(2),
             point_b: Vec2::zeros(),
             kind: LoopKind::Revolute,
-        })
-        .unwrap();
-    builder.build()
+        }],
+    )
 }
 
 /// The mechanism's kinetic-energy inertia `I(θ)` (`T = ½ I θ̇²`) and potential slope

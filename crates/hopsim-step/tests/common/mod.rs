@@ -207,8 +207,25 @@ pub fn four_bar([a, b, c, d]: [f64; 4], gravity: f64, crank_inertia: Option<f64>
     let mut rocker_joint = Joint::revolute(None, Vec2::new(d, 0.0), Vec2::new(c / 2.0, 0.0));
     rocker_joint.coordinate = JointCoordinate::Absolute;
     let rocker = bar("rocker", c, 1.0, rocker_joint);
-    let mut builder = ModelBuilder::new(
+    closed_chain(
         vec![crank, coupler, rocker],
+        gravity,
+        vec![LoopJoint {
+            name: "coupler-rocker".into(),
+            body_a: 1,
+            point_a: Vec2::new(b / 2.0, 0.0),
+            body_b: Some(2),
+            point_b: Vec2::new(c / 2.0, 0.0),
+            kind: LoopKind::Revolute,
+        }],
+    )
+}
+
+/// A model of `bodies` without shapes or terrain contacts under gravity `gravity` (along
+/// `−y`), closed by the loop joints `loops` (docs/physics.md §8).
+pub fn closed_chain(bodies: Vec<Body>, gravity: f64, loops: Vec<LoopJoint>) -> Model {
+    let mut builder = ModelBuilder::new(
+        bodies,
         vec![],
         Terrain::flat(-100.0),
         vec![],
@@ -216,15 +233,8 @@ pub fn four_bar([a, b, c, d]: [f64; 4], gravity: f64, crank_inertia: Option<f64>
         ContactMaterial::inelastic(0.0),
     )
     .unwrap();
-    builder
-        .add_loop(LoopJoint {
-            name: "coupler-rocker".into(),
-            body_a: 1,
-            point_a: Vec2::new(b / 2.0, 0.0),
-            body_b: Some(2),
-            point_b: Vec2::new(c / 2.0, 0.0),
-            kind: LoopKind::Revolute,
-        })
-        .unwrap();
+    for joint in loops {
+        builder.add_loop(joint).unwrap();
+    }
     builder.build()
 }
