@@ -5,7 +5,7 @@
 mod common;
 
 use common::bar;
-use hopsim_model::{Joint, JointCoordinate, Kinematics, LoopJoint, LoopKind, Model, Vec2};
+use hopsim_model::{Body, Joint, JointCoordinate, Kinematics, LoopJoint, LoopKind, Model, Vec2};
 use hopsim_step::{Actuation, State, StepError, StepSettings, Stepper};
 use nalgebra::DVector;
 use std::f64::consts::TAU;
@@ -287,4 +287,138 @@ fn random_crank_rockers_hold_their_loop() {
             assert!(angle_between(state.q[2], theta4).abs() < 1e-8, "{bar:?}");
         }
     }
+}
+
+/// The complete elliptic integral of the first kind `K(k)` (arithmetic–geometric mean).
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut b) = (1.0_f64, (1.0 - k * k).sqrt());
+    while (a - b).abs() > 1e-15 * a {
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+    }
+    TAU / 4.0 / a
+}
+
+/// A free body hung from a world point by a massless rod (a distance loop joint) at its
+/// centre of mass swings as a simple pendulum of the rod's length: its period from 0.5 rad
+/// is `4 √(L/g) K(sin(θ₀/2))`, to the scheme's first-order error; the body's own rotation
+/// stays free (it keeps its spin).
+#[test]
+fn a_body_on_a_massless_rod_swings_with_the_pendulum_period() {
+    let (length, theta0, g) = (0.8, 0.5_f64, 9.81);
+    let model = common::closed_chain(
+        vec![Body::base("bob", 2.0, 0.05)],
+        g,
+        vec![LoopJoint {
+            name: "rod".into(),
+            body_a: 0,
+            point_a: Vec2::zeros(),
+            body_b: None,
+            point_b: Vec2::zeros(),
+            kind: LoopKind::Distance { length },
+        }],
+    );
+    let mut state = State {
+        t: 0.0,
+        q: DVector::from_vec(vec![length * theta0.sin(), -length * theta0.cos(), 0.0]),
+        u: DVector::from_vec(vec![0.0, 0.0, 3.0]),
+    };
+    let dt = 1e-4;
+    let mut stepper = Stepper::new(&model, StepSettings::strict(dt));
+    stepper.start(&model, &state);
+    // Times the bob crosses x = 0 moving towards −x (once per period).
+    let mut crossings = Vec::new();
+    let mut x = state.q[0];
+    for _ in 0..60_000 {
+        let record = stepper
+            .step(&model, &mut state, &Actuation::default())
+            .unwrap();
+        assert!(record.loop_error <= 1e-10);
+        if x > 0.0 && state.q[0] <= 0.0 {
+            crossings.push(state.t - dt * state.q[0] / (state.q[0] - x));
+        }
+        x = state.q[0];
+    }
+    let period = 4.0 * (length / g).sqrt() * elliptic_k((theta0 / 2.0).sin());
+    let measured = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    eprintln!("rod pendulum: period {measured:.6} s, closed form {period:.6} s");
+    assert!(crossings.len() >= 3);
+    assert!(
+        (measured - period).abs() < 1e-3 * period,
+        "{measured} vs {period}"
+    );
+    assert!((state.u[2] - 3.0).abs() < 1e-9, "{}", state.u[2]);
+}
+
+/// The impact law with loops (docs/physics.md §8.2): a free rod pinned to the world at one
+/// end by a revolute loop joint falls onto the ground with its tip; in the impact step the
+/// tip's normal velocity reverses by `ε` (Newton's law on the unilateral row) while the pin
+/// holds, so the one-coordinate mechanism keeps `ε²` of its kinetic energy.
+#[test]
+fn an_impact_of_a_closed_chain_follows_newtons_law_with_the_loop_holding() {
+    use hopsim_model::{ContactMaterial, ModelBuilder, Shape, ShapeInstance, Terrain};
+    let (length, eps) = (0.6, 0.5);
+    let mut builder = ModelBuilder::new(
+        vec![Body::base("rod", 1.0, length * length / 12.0)],
+        vec![ShapeInstance {
+            name: "tip".into(),
+            body: 0,
+            shape: Shape::Point {
+                position: Vec2::new(length / 2.0, 0.0),
+            },
+        }],
+        Terrain::flat(0.0),
+        vec![],
+        Vec2::new(0.0, -9.81),
+        ContactMaterial {
+            friction: 0.0,
+            restitution_normal: eps,
+            restitution_tangent: 0.0,
+        },
+    )
+    .unwrap();
+    builder
+        .add_loop(LoopJoint {
+            name: "pin".into(),
+            body_a: 0,
+            point_a: Vec2::new(-length / 2.0, 0.0),
+            body_b: None,
+            point_b: Vec2::new(0.0, 0.3),
+            kind: LoopKind::Revolute,
+        })
+        .unwrap();
+    let model = builder.build();
+    // Horizontal, at rest: the tip falls through 0.3 m onto the ground (at 30° below).
+    let mut state = State {
+        t: 0.0,
+        q: DVector::from_vec(vec![length / 2.0, 0.3, 0.0]),
+        u: DVector::zeros(3),
+    };
+    let mut stepper = Stepper::new(&model, StepSettings::strict(1e-5));
+    stepper.start(&model, &state);
+    let mut before = stepper.record().energy.kinetic;
+    for _ in 0..100_000 {
+        let record = stepper
+            .step(&model, &mut state, &Actuation::default())
+            .unwrap();
+        assert!(record.loop_error <= 1e-10);
+        if let Some(c) = record.contacts.iter().find(|c| c.impulse_normal > 0.0) {
+            let after = record.energy.kinetic;
+            eprintln!(
+                "pinned rod impact: tip velocity {:.5} -> {:.5} m/s, kinetic energy ratio {:.5}",
+                c.approach_velocity,
+                c.normal_velocity - eps * c.approach_velocity,
+                after / before
+            );
+            // Newton's law on the contact row: ξ_N = γ^E + ε γ^A = 0.
+            assert!(c.normal_velocity.abs() < 1e-9 * c.approach_velocity.abs());
+            assert!(
+                (after / before - eps * eps).abs() < 1e-2,
+                "{}",
+                after / before
+            );
+            return;
+        }
+        before = record.energy.kinetic;
+    }
+    panic!("the rod never hit the ground");
 }
