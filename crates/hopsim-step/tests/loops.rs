@@ -422,3 +422,70 @@ fn an_impact_of_a_closed_chain_follows_newtons_law_with_the_loop_holding() {
     }
     panic!("the rod never hit the ground");
 }
+
+/// Two free bodies welded together (a weld loop joint) fly as one rigid body: the loop's
+/// percussions and the projection are internal forces, so the pair's centre of mass follows
+/// the free-fall parabola to round-off and its angular momentum about that centre is
+/// kept; the weld's relative angle and point stay closed.
+#[test]
+fn welded_bodies_fly_as_one_rigid_body() {
+    let (g, angle) = (9.81, 0.3);
+    let (ma, mb) = (1.0, 2.0);
+    let model = common::closed_chain(
+        vec![Body::base("a", ma, 0.01), Body::base("b", mb, 0.02)],
+        g,
+        vec![LoopJoint {
+            name: "weld".into(),
+            body_a: 0,
+            point_a: Vec2::new(0.1, 0.0),
+            body_b: Some(1),
+            point_b: Vec2::new(-0.1, 0.05),
+            kind: LoopKind::Weld { angle },
+        }],
+    );
+    // Roughly assembled, thrown up and spinning; the stepper closes it.
+    let mut state = State {
+        t: 0.0,
+        q: DVector::from_vec(vec![0.0, 0.0, 0.0, 0.2, 0.0, -angle]),
+        u: DVector::from_vec(vec![1.0, 3.0, 6.0, 1.0, 3.0, 6.0]),
+    };
+    let mut stepper = Stepper::new(&model, StepSettings::strict(1e-4));
+    stepper.assemble(&model, &mut state).unwrap();
+    stepper.start(&model, &state);
+    let com = |s: &State| {
+        let p = |i: usize| Vec2::new(s.q[i], s.q[i + 1]) * if i == 0 { ma } else { mb };
+        let v = |i: usize| Vec2::new(s.u[i], s.u[i + 1]) * if i == 0 { ma } else { mb };
+        ((p(0) + p(3)) / (ma + mb), (v(0) + v(3)) / (ma + mb))
+    };
+    let spin = |s: &State| {
+        let (c, v) = com(s);
+        let own = |i: usize, m: f64| {
+            let (r, w) = (
+                Vec2::new(s.q[i], s.q[i + 1]) - c,
+                Vec2::new(s.u[i], s.u[i + 1]) - v,
+            );
+            m * (r.x * w.y - r.y * w.x)
+        };
+        own(0, ma) + own(3, mb) + 0.01 * s.u[2] + 0.02 * s.u[5]
+    };
+    let ((c0, v0), l0) = (com(&state), spin(&state));
+    let (mut worst_com, mut worst_spin, mut worst_angle) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for _ in 0..10_000 {
+        let record = stepper
+            .step(&model, &mut state, &Actuation::default())
+            .unwrap();
+        assert!(record.loop_error <= 1e-10);
+        let t = state.t;
+        let parabola = c0 + v0 * t + Vec2::new(0.0, -0.5 * g * t * t);
+        worst_com = worst_com.max((com(&state).0 - parabola).norm());
+        worst_spin = worst_spin.max((spin(&state) - l0).abs() / l0.abs());
+        worst_angle = worst_angle.max((state.q[2] - state.q[5] - angle).abs());
+    }
+    eprintln!(
+        "weld: centre of mass off the parabola by {worst_com:.2e} m, angular momentum by \
+         {worst_spin:.2e} (relative), angle by {worst_angle:.2e} rad"
+    );
+    assert!(worst_com < 1e-10, "{worst_com}");
+    assert!(worst_angle <= 1e-12, "{worst_angle}");
+    assert!(worst_spin < 1e-3, "{worst_spin}");
+}
