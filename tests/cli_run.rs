@@ -181,6 +181,34 @@ fn every_gallery_scene_runs_and_records() {
     }
 }
 
+/// The five-bar leg hopper (a closed chain, docs/classics.md §8) hops from the command
+/// line: at least 20 hops in 20 s, no LCP failure, its loop closed to 1e-10 m and its energy
+/// account closed to 1 % of the run's energy scale.
+#[test]
+fn the_five_bar_hopper_hops_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("r.json").display().to_string();
+    let out = hopsim(&[
+        "run",
+        "scenes/classic/five-bar-hopper.toml",
+        "--quiet",
+        "--summary",
+        json.as_str(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap();
+    assert!(summary["hops"].as_u64().unwrap() >= 20, "{summary}");
+    assert_eq!(summary["lcp"]["failures"].as_u64(), Some(0));
+    assert!(number(&summary["max_loop_error_m"]) <= 1e-10, "{summary}");
+    let energy = &summary["energy"];
+    assert!(
+        number(&energy["max_abs_balance_error"]) <= 1e-2 * number(&energy["scale_J"]),
+        "{summary}"
+    );
+}
+
 #[test]
 fn quiet_prints_nothing() {
     let out = hopsim(&["run", "scenes/robbit.toml", "--duration", "0.2", "--quiet"]);

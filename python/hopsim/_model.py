@@ -139,6 +139,17 @@ _SECTIONS: Tuple[_Section, ...] = (
     _Section("contact_pairs", "contact_pair", True, (
         ("shapes", NAMES, "the two shapes, on different bodies; required"),
     ) + _MATERIAL),
+    _Section("loops", "loop", True, (
+        ("name", STRING, "default loop<i>"),
+        ("type", STRING, '"revolute", "distance", "weld" or "slot"; required'),
+        ("body_a", STRING, "required"),
+        ("point_a", VEC2, "the point in body_a's frame, m ([0, 0])"),
+        ("body_b", STRING, 'another body or "world" ("world")'),
+        ("point_b", VEC2, "the point in body_b's frame (the world's), m ([0, 0])"),
+        ("length", NUMBER, "distance: the rod's length, m, > 0"),
+        ("angle", NUMBER, "weld: θ_A − θ_B held, rad (0)"),
+        ("axis", VEC2, "slot: the line's direction in body_b's frame"),
+    )),
     _Section("controller", "controller", False, (
         ("type", STRING, '"passive" (default), "momentum_impulse" or "pulse"'),
         ("flywheel", STRING, "momentum_impulse: the flywheel body"),
@@ -362,7 +373,7 @@ class Model:
     def initial(self, **keys: Any) -> "Model":
         return self._table("initial", keys)
 
-    # Arrays of tables (one call per body, shape, spring or pair).
+    # Arrays of tables (one call per body, shape, spring, pair or loop).
 
     def body(self, name: str, **keys: Any) -> "Model":
         return self._entry(_Call("body", {"name": name, **keys}, lead="name"))
@@ -375,6 +386,9 @@ class Model:
 
     def contact_pair(self, shapes: Sequence[str], **keys: Any) -> "Model":
         return self._entry(_Call("contact_pair", {"shapes": shapes, **keys}, lead="shapes"))
+
+    def loop(self, name: Optional[str] = None, **keys: Any) -> "Model":
+        return self._named("loop", name, keys, ("type", "body_a"))
 
     # The scene.
 
@@ -410,7 +424,7 @@ class Model:
     def _named(
         self, method: str, name: Optional[str], keys: Mapping[str, Any], shown: Sequence[str]
     ) -> "Model":
-        """A shape or spring: named by its name if it has one, else by ``shown``."""
+        """A shape, spring or loop: named by its name if it has one, else by ``shown``."""
         if name is None:
             return self._entry(_Call(method, keys, shown=shown))
         return self._entry(_Call(method, {"name": name, **keys}, lead="name"))
@@ -625,6 +639,8 @@ def _document_methods() -> None:
         "shape": "A contact shape (``[[shapes]]``); the same name again changes it.",
         "spring": "A linear spring between points of two bodies (``[[springs]]``).",
         "contact_pair": "An explicit body–body contact pair (``[[contact_pairs]]``).",
+        "loop": "A loop joint closing a kinematic loop (``[[loops]]``); the same name again "
+        "changes it.",
     }
     for section in _SECTIONS:
         method = getattr(Model, section.method)

@@ -124,6 +124,19 @@ class Model:
         restitution: Optional[float] = ...,
         tangential_restitution: Optional[float] = ...,
     ) -> "Model": ...
+    def loop(
+        self,
+        name: Optional[str] = None,
+        *,
+        type: Optional[str] = ...,
+        body_a: Optional[str] = ...,
+        point_a: Optional[_Vec2] = ...,
+        body_b: Optional[str] = ...,
+        point_b: Optional[_Vec2] = ...,
+        length: Optional[float] = ...,
+        angle: Optional[float] = ...,
+        axis: Optional[_Vec2] = ...,
+    ) -> "Model": ...
     def controller(
         self,
         *,

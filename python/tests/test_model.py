@@ -258,6 +258,8 @@ def test_a_value_error_names_the_call_and_argument():
          "Model.spring(body_a='disc', body_b='flywheel'): rest_length: missing"),
         (lambda m: m.contact_pair(["disc", "disc"]),
          "Model.contact_pair(['disc', 'disc']): shapes:"),
+        (lambda m: m.loop("pin", type="revolute", body_a="disc", body_b="flywhel"),
+         "Model.loop('pin', body_b='flywhel'): body_b: there is no body named 'flywhel'"),
         (lambda m: m.simulation(dt=math.nan),
          "Model.simulation(dt=nan): dt: expected a positive number in s"),
     ],

@@ -23,7 +23,7 @@ pub const INTERNAL_ERROR: u8 = 4;
 /// The exit code of a run stopped by `err`.
 pub fn of_run_error(err: &RunError) -> u8 {
     match err {
-        RunError::Step(_) | RunError::NotFinite { .. } => SIMULATION_FAILED,
+        RunError::Step(_) | RunError::Loop { .. } | RunError::NotFinite { .. } => SIMULATION_FAILED,
         RunError::Actuation(_) => INVALID_INPUT,
         RunError::Record(_) => FAILURE,
         RunError::Internal { .. } => INTERNAL_ERROR,

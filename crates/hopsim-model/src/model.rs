@@ -3,6 +3,7 @@
 
 use crate::contact::{contact_geometry, ContactCandidate, ContactGeometry, ContactMaterial};
 use crate::forces::separation;
+use crate::loops::{check_loop, LoopJoint};
 use crate::pairs::{
     pair_candidates, pair_directions_to, pair_geometry, PairCandidate, PairGeometry, Pose,
 };
@@ -41,6 +42,8 @@ pub enum ModelError {
     BadShape { shape: String, reason: String },
     #[error("spring '{spring}': {reason}")]
     BadSpring { spring: String, reason: String },
+    #[error("loop '{name}': {reason}")]
+    BadLoop { name: String, reason: String },
     #[error("contact between shapes '{first}' and '{second}': {reason}")]
     BadPair {
         first: String,
@@ -106,6 +109,9 @@ pub struct Model {
     gravity: Vec2,
     limits: Vec<LimitCandidate>,
     pairs: Vec<PairCandidate>,
+    /// Loop joints (docs/physics.md §8) and their number of rows.
+    pub(crate) loops: Vec<LoopJoint>,
+    pub(crate) loop_rows: usize,
     /// First generalised coordinate of each body (for a fixed body: the next body's).
     pub(crate) first_coordinate: Vec<usize>,
     /// Number of generalised coordinates.
@@ -153,6 +159,8 @@ impl ModelBuilder {
                 gravity,
                 limits,
                 pairs: Vec::new(),
+                loops: Vec::new(),
+                loop_rows: 0,
                 first_coordinate,
                 dof,
                 structure: Structure::empty(),
@@ -218,6 +226,17 @@ impl ModelBuilder {
         let added = new.len();
         model.pairs.extend(new);
         Ok(added)
+    }
+
+    /// Adds a loop joint (docs/physics.md §8), checked: its bodies exist, differ and are
+    /// not both without coordinates; a distance is positive, a slot's axis non-zero.
+    pub fn add_loop(&mut self, joint: LoopJoint) -> Result<(), ModelError> {
+        let model = &mut self.model;
+        let bodies = &model.bodies;
+        let joint = check_loop(joint, bodies.len(), |b| bodies[b].is_fixed())?;
+        model.loop_rows += joint.kind.rows();
+        model.loops.push(joint);
+        Ok(())
     }
 
     /// The model, with its constants (docs/physics.md §7: the Jacobian's sparsity and

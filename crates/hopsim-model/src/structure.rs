@@ -63,6 +63,12 @@ impl Structure {
             needs_rotation[s.body_a] |= s.point_a != Vec2::zeros();
             needs_rotation[s.body_b] |= s.point_b != Vec2::zeros();
         }
+        for l in model.loops() {
+            needs_rotation[l.body_a] = true;
+            if let Some(b) = l.body_b {
+                needs_rotation[b] = true;
+            }
+        }
         for (b, body) in bodies.iter().enumerate() {
             if let Some(j) = &body.joint {
                 needs_rotation[b] |= j.com_in_child != Vec2::zeros();

@@ -2,7 +2,7 @@
 //!
 //! A scene file describes a robot and its world: `[meta]`, `[simulation]`,
 //! `[environment]`, `[[bodies]]`, `[[shapes]]`, `[[springs]]`, `[body_contacts]`,
-//! `[[contact_pairs]]`, `[controller]` and `[initial]`. A MuJoCo model (MJCF, `.xml`) is
+//! `[[contact_pairs]]`, `[[loops]]`, `[controller]` and `[initial]`. A MuJoCo model (MJCF, `.xml`) is
 //! imported into the equivalent scene ([`import_mjcf`], docs/mjcf.md). [`load`] reads, overrides (`--set key=value`) and validates it into a
 //! [`Scene`]: a [`hopsim_model::Model`], an initial [`hopsim_step::State`], a
 //! [`hopsim_control::ControllerConfig`] and the run [`Settings`]. Every error says where
@@ -16,6 +16,7 @@ mod controller;
 mod environment;
 mod error;
 mod import;
+mod loops;
 mod overrides;
 mod reader;
 mod scene;
@@ -30,6 +31,7 @@ pub use error::{Location, SceneError};
 pub use hopsim_sim::{check_start, check_state, StartProblem, StateProblem, PENETRATION_TOL};
 pub use hopsim_sim::{check_steps, Settings, Setup, TooManySteps, DEFAULT_MAX_STEPS, MIN_DT};
 pub use import::{import_mjcf, is_mjcf};
+pub use loops::{MAX_LOOPS, START_LOOP_TOLERANCE};
 pub use overrides::Override;
 pub use reader::{MAX_COORDINATE, MAX_MAGNITUDE};
 pub use scene::{document, load, parse, Scene, MAX_CONTACTS, MAX_SCENE_BYTES};

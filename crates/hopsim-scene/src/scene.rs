@@ -5,6 +5,7 @@ use crate::body_contacts::read_body_contacts;
 use crate::controller::read_controller;
 use crate::environment::read_environment;
 use crate::error::{SceneError, Source};
+use crate::loops::{close_start, read_loops};
 use crate::overrides::{apply, Override};
 use crate::reader::Table;
 use crate::settings::{read_meta, read_settings, Meta};
@@ -124,6 +125,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         "springs",
         "body_contacts",
         "contact_pairs",
+        "loops",
         "controller",
         "initial",
     ])?;
@@ -195,13 +197,15 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         builder.set_shape_material(s, shape.material);
     }
     read_body_contacts(&top, &shapes, &shape_names, &mut builder)?;
+    read_loops(&top.tables("loops")?, &body_names, &mut builder)?;
     let model = builder.build();
     let switchable: Vec<usize> = (0..shapes.len())
         .filter(|&s| shapes[s].switchable)
         .collect();
 
     let init = top.table_or_empty("initial")?;
-    let initial = read_initial(&init, &model, &shapes, &coordinates, settings.max_speed)?;
+    let mut initial = read_initial(&init, &model, &shapes, &coordinates, settings.max_speed)?;
+    close_start(&init, &model, &mut initial)?;
     init.finish()?;
     top.finish()?;
     Ok(Scene {

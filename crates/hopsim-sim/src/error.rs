@@ -8,6 +8,16 @@ use hopsim_step::StepError;
 pub enum RunError {
     #[error(transparent)]
     Step(#[from] StepError),
+    /// A loop joint reached a singular configuration or could not be closed
+    /// ([`StepError::Loop`] with the loop's name, docs/physics.md §8.4).
+    #[error("step {step} (t = {t:.6} s): loop '{name}' {}, loop error {error:.3e}", hopsim_step::loop_failure(*.singular))]
+    Loop {
+        step: u64,
+        t: f64,
+        name: String,
+        singular: bool,
+        error: f64,
+    },
     #[error("recording failed: {0}")]
     Record(#[from] RecordError),
     /// A figure of the run overflowed (e.g. a potential energy of `inf` from a state near
@@ -28,6 +38,28 @@ pub enum RunError {
          please report it with the scene file and the command line"
     )]
     Internal { step: u64, t: f64, message: String },
+}
+
+impl RunError {
+    /// `err` of a step of `model`: a loop joint's error names the loop.
+    pub fn of_step(err: StepError, model: &hopsim_model::Model) -> Self {
+        match err {
+            StepError::Loop {
+                step,
+                t,
+                loop_index,
+                singular,
+                error,
+            } => RunError::Loop {
+                step,
+                t,
+                name: model.loops()[loop_index].name.clone(),
+                singular,
+                error,
+            },
+            e => RunError::Step(e),
+        }
+    }
 }
 
 /// The message of a panic's payload (`panic!` with a literal or a formatted string).

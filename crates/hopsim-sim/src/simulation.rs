@@ -297,7 +297,10 @@ impl Simulation {
         if self.panic_at == Some(step0 + 1) {
             panic!("forced by {PANIC_AT_STEP}={} (a test hook)", step0 + 1);
         }
-        let record = self.stepper.step(model, &mut self.state, &self.actuation)?;
+        let record = self
+            .stepper
+            .step(model, &mut self.state, &self.actuation)
+            .map_err(|e| RunError::of_step(e, model))?;
         // Applied impulses act inside the step, as brakes do (N s for a point impulse,
         // N m s for a rotational one).
         for command in &self.actuation.impulses {

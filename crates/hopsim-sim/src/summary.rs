@@ -91,6 +91,10 @@ pub struct Summary {
     pub impulse_per_distance: f64,
     pub energy: EnergySummary,
     pub max_penetration_m: f64,
+    /// The largest loop error at the end of any step, m (docs/physics.md §8.4); absent
+    /// for a model without loop joints.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_loop_error_m: Option<f64>,
     pub lcp: LcpSummary,
     pub wall_time_s: f64,
     pub steps_per_s: f64,
@@ -121,6 +125,7 @@ pub(crate) struct SummaryCollector {
     window_impulse: f64,
     window_brakes: u64,
     max_penetration: f64,
+    max_loop_error: Option<f64>,
     max_balance_error: f64,
     max_balance_error_at: f64,
     potential_start: Option<f64>,
@@ -152,6 +157,7 @@ impl SummaryCollector {
             window_impulse: 0.0,
             window_brakes: 0,
             max_penetration: 0.0,
+            max_loop_error: (!scene.model.loops().is_empty()).then_some(0.0),
             impacts_creating_energy: 0,
             created_in_impacts: 0.0,
             max_balance_error: 0.0,
@@ -195,6 +201,7 @@ impl SummaryCollector {
                 created_in_impacts: self.created_in_impacts,
             },
             max_penetration_m: self.max_penetration,
+            max_loop_error_m: self.max_loop_error,
             lcp: LcpSummary {
                 solves: lcp.solves,
                 failures: lcp.failures,
@@ -307,6 +314,9 @@ impl Observer for SummaryCollector {
             }
         }
         self.max_penetration = self.max_penetration.max(view.record.max_penetration);
+        if let Some(worst) = &mut self.max_loop_error {
+            *worst = worst.max(view.record.loop_error);
+        }
         let energy = &view.record.energy;
         let balance = energy.balance_error().abs();
         if balance > self.max_balance_error {

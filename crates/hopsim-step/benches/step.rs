@@ -1,5 +1,6 @@
-//! Stepping a Robbit-like model (4 DOF, one frictional contact) under motor torque, and a
-//! two-body hopper (relative joint, springs, arc foot and cane: several contacts).
+//! Stepping a Robbit-like model (4 DOF, one frictional contact) under motor torque, a
+//! two-body hopper (relative joint, springs, arc foot and cane: several contacts), and a
+//! four-bar linkage (a loop joint: its rows in the step and the projection after it).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -72,5 +73,17 @@ fn two_body_hopper_step(c: &mut Criterion) {
     bench_stance(c, name, &model, &mut stepper, &start, &act);
 }
 
-criterion_group!(benches, robbit_step, two_body_hopper_step);
+fn four_bar_step(c: &mut Criterion) {
+    let model = common::four_bar([0.1, 0.35, 0.25, 0.3], 9.81, None);
+    let mut stepper = common::stepper(&model, 1e-4);
+    let mut state = common::state(&[0.3, 1.0, 1.4], &[12.0, 0.0, 0.0]);
+    stepper.assemble(&model, &mut state).unwrap();
+    stepper.start(&model, &state);
+    let act = Actuation::default();
+    c.bench_function("four_bar_step", |b| {
+        b.iter(|| black_box(stepper.step(&model, &mut state, &act).unwrap().loop_error))
+    });
+}
+
+criterion_group!(benches, robbit_step, two_body_hopper_step, four_bar_step);
 criterion_main!(benches);

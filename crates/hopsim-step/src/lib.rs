@@ -20,4 +20,4 @@ pub use record::{
     StepRecord, STATE_MARGIN,
 };
 pub use state::State;
-pub use stepper::{StepError, StepSettings, Stepper, DEPENDENT_ROWS};
+pub use stepper::{loop_failure, StepError, StepSettings, Stepper, DEPENDENT_ROWS, LOOP_TOLERANCE};

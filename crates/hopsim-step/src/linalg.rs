@@ -196,6 +196,114 @@ fn solve_many_dynamic(n: usize, l: &[f64], xs: &mut [f64]) {
     }
 }
 
+/// A rank-revealing `L D Lᵀ` factorisation with diagonal (complete) pivoting of a small
+/// symmetric positive semi-definite matrix, in reused buffers (docs/physics.md §8.3): the
+/// pivot is the largest remaining diagonal entry, and the factorisation stops where it
+/// falls to `rel_tol` times the largest diagonal entry of the matrix. The rows past the
+/// rank are dependent on the others (to that tolerance); [`PivotedFactor::solve`] gives
+/// them zero, which solves every consistent system `A x = b` (`b` in the range of `A`)
+/// exactly, as a pseudo-inverse would.
+#[derive(Clone, Debug)]
+pub struct PivotedFactor {
+    n: usize,
+    rank: usize,
+    /// `perm[k]`: the original index of pivot `k`.
+    perm: Vec<usize>,
+    /// The `n × n` working matrix: `L` below the diagonal, `D` on it (first `rank` columns).
+    data: Vec<f64>,
+    work: Vec<f64>,
+}
+
+impl PivotedFactor {
+    /// Room for matrices up to `capacity × capacity`.
+    pub fn new(capacity: usize) -> Self {
+        Self {
+            n: 0,
+            rank: 0,
+            perm: vec![0; capacity],
+            data: vec![0.0; capacity * capacity],
+            work: vec![0.0; capacity],
+        }
+    }
+
+    /// Factors the row-major `n × n` `a` (stride `n`); returns its numerical rank (0 for
+    /// a zero or non-finite matrix).
+    pub fn factor(&mut self, a: &[f64], n: usize, rel_tol: f64) -> usize {
+        self.n = n;
+        let d = &mut self.data[..n * n];
+        d.copy_from_slice(&a[..n * n]);
+        for (k, p) in self.perm[..n].iter_mut().enumerate() {
+            *p = k;
+        }
+        let largest = (0..n).fold(0.0_f64, |m, i| m.max(d[i * n + i]));
+        self.rank = 0;
+        if !(largest.is_finite() && largest > 0.0) {
+            return 0;
+        }
+        for k in 0..n {
+            let p = (k..n)
+                .max_by(|&i, &j| d[i * n + i].total_cmp(&d[j * n + j]))
+                .unwrap_or(k);
+            let pivot = d[p * n + p];
+            // Also stops at a NaN pivot.
+            if pivot.partial_cmp(&(rel_tol * largest)) != Some(std::cmp::Ordering::Greater) {
+                break;
+            }
+            if p != k {
+                self.perm.swap(k, p);
+                for c in 0..n {
+                    d.swap(k * n + c, p * n + c);
+                }
+                for r in 0..n {
+                    d.swap(r * n + k, r * n + p);
+                }
+            }
+            // The trailing block's Schur complement; the column becomes `L`.
+            for i in k + 1..n {
+                let l = d[i * n + k] / pivot;
+                for j in k + 1..n {
+                    d[i * n + j] -= l * d[k * n + j];
+                }
+            }
+            for i in k + 1..n {
+                d[i * n + k] /= pivot;
+            }
+            self.rank = k + 1;
+        }
+        self.rank
+    }
+
+    /// The original indices of the rows left out as dependent (past the rank).
+    pub fn dependent(&self) -> &[usize] {
+        &self.perm[self.rank..self.n]
+    }
+
+    /// Solves `A x = b` in place (`x`: `b` in, length `n`): the independent unknowns from
+    /// the factor, the dependent ones zero.
+    pub fn solve(&mut self, x: &mut [f64]) {
+        let (n, r) = (self.n, self.rank);
+        let (d, y) = (&self.data, &mut self.work[..r]);
+        for (k, y) in y.iter_mut().enumerate() {
+            *y = x[self.perm[k]];
+        }
+        for i in 0..r {
+            let s: f64 = (0..i).map(|k| d[i * n + k] * y[k]).sum();
+            y[i] -= s;
+        }
+        for i in (0..r).rev() {
+            let mut s = y[i] / d[i * n + i];
+            for k in i + 1..r {
+                s -= d[k * n + i] * y[k];
+            }
+            y[i] = s;
+        }
+        x[..n].fill(0.0);
+        for (k, y) in y.iter().enumerate() {
+            x[self.perm[k]] = *y;
+        }
+    }
+}
+
 /// `aᵀ b` over the shorter of the two slices.
 #[inline]
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -276,5 +384,33 @@ mod tests {
         let mut factor = Factor::new(2, false);
         assert!(!factor.factor(&[1.0, 2.0, 2.0, 1.0], 2));
         assert!(!factor.factor(&[1.0, 0.0, 0.0, f64::NAN], 2));
+    }
+
+    #[test]
+    fn the_pivoted_factor_solves_a_consistent_singular_system() {
+        // A = B Bᵀ with a third row of B the sum of the first two: rank 2.
+        let b = [[1.0, 2.0, 0.5], [0.0, -1.0, 3.0]];
+        let rows = [b[0], b[1], [1.0, 1.0, 3.5]];
+        let a: Vec<f64> = (0..9).map(|k| dot(&rows[k / 3], &rows[k % 3])).collect();
+        let mut factor = PivotedFactor::new(3);
+        assert_eq!(factor.factor(&a, 3, 1e-12), 2);
+        assert_eq!(factor.dependent().len(), 1);
+        // b in the range of A: A x_true.
+        let x_true = [0.3, -1.0, 2.0];
+        let mut x = times(&a, 3, &x_true);
+        let rhs = x.clone();
+        factor.solve(&mut x);
+        for (r, b) in times(&a, 3, &x).iter().zip(&rhs) {
+            assert!((r - b).abs() < 1e-12 * b.abs().max(1.0), "{r} vs {b}");
+        }
+        // A regular matrix has full rank and the exact solution.
+        let spd = [4.0, 2.0, 0.4, 2.0, 5.0, 1.0, 0.4, 1.0, 3.0];
+        assert_eq!(factor.factor(&spd, 3, 1e-12), 3);
+        let mut x = times(&spd, 3, &x_true);
+        factor.solve(&mut x);
+        for (x, t) in x.iter().zip(x_true) {
+            assert!((x - t).abs() < 1e-12, "{x} vs {t}");
+        }
+        assert_eq!(factor.factor(&[f64::NAN; 9], 3, 1e-12), 0);
     }
 }

@@ -134,7 +134,7 @@ pub struct LimitRecord {
 /// Running energy account of a simulation (docs/physics.md §6), J.
 ///
 /// `kinetic + potential + spring - initial = actuator_work + contact_work + limit_work +
-/// lock_work + damping_work + balance_error`, the works being those of the step impulses over the
+/// lock_work + loop_work + damping_work + projection + balance_error`, the works being those of the step impulses over the
 /// step's mean velocity `(u^A + u^E)/2`; the error is the midpoint scheme's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
@@ -156,6 +156,12 @@ pub struct EnergyLedger {
     pub lock_work: f64,
     /// Cumulative work of joint and spring damping (≤ 0).
     pub damping_work: f64,
+    /// Cumulative work of the loop joints' percussions (docs/physics.md §8.2; 0 without
+    /// loops).
+    pub loop_work: f64,
+    /// Cumulative change of mechanical energy by the projections onto the loops' closure
+    /// after each step (docs/physics.md §8.4; 0 without loops).
+    pub projection: f64,
 }
 
 impl EnergyLedger {
@@ -164,15 +170,15 @@ impl EnergyLedger {
         self.kinetic + self.potential + self.spring
     }
 
-    /// Energy dissipated so far by impacts, friction, joint stops, locks and damping (≥ 0
-    /// when passive).
+    /// Energy dissipated so far by impacts, friction, joint stops, locks, loop joints and
+    /// damping (≥ 0 when passive).
     pub fn dissipated(&self) -> f64 {
-        -(self.contact_work + self.limit_work + self.lock_work + self.damping_work)
+        -(self.contact_work + self.limit_work + self.lock_work + self.damping_work) - self.loop_work
     }
 
-    /// What the account fails to explain: `ΔE - W_actuators + dissipated`.
+    /// What the account fails to explain: `ΔE - W_actuators + dissipated - projection`.
     pub fn balance_error(&self) -> f64 {
-        self.total() - self.initial - self.actuator_work + self.dissipated()
+        self.total() - self.initial - self.actuator_work + self.dissipated() - self.projection
     }
 
     /// The energy the account is measured against (docs/physics.md §6.1), J: the largest of
@@ -186,6 +192,8 @@ impl EnergyLedger {
             self.limit_work,
             self.lock_work,
             self.damping_work,
+            self.loop_work,
+            self.projection,
         ]
         .iter()
         .fold(
@@ -244,6 +252,9 @@ pub struct StepRecord {
     /// Smallest gap `g_N` over the enabled contacts with the world at the end of the step
     /// (`+∞` when none can touch), m; computed in the same pass as `max_penetration`.
     pub min_gap: f64,
+    /// The largest loop-joint residual `|φ|` at the end of the step (m, rad for a weld's
+    /// angle), after the projection (docs/physics.md §8.4); 0 without loops.
+    pub loop_error: f64,
 }
 
 impl Default for StepRecord {
@@ -262,6 +273,7 @@ impl Default for StepRecord {
             resolution: Resolution::default(),
             max_penetration: 0.0,
             min_gap: f64::INFINITY,
+            loop_error: 0.0,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! One step of the Moreau midpoint scheme of docs/physics.md §4, as a pipeline of named stages
 //! (see [`Stepper::step`]).
 
-use crate::linalg::{axpy, dot, Factor};
+use crate::linalg::{axpy, dot, Factor, PivotedFactor};
 use crate::{
     Actuation, ContactRecord, ContactState, EnergyLedger, ImpulseCommand, LcpStats, LimitRecord,
     LockRecord, Resolution, State, StepRecord,
@@ -11,9 +11,12 @@ use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
 mod layout;
+mod loops;
 mod pairs;
 
 use layout::{at, Layout};
+pub use loops::LOOP_TOLERANCE;
+use loops::{LoopProjection, DEPENDENT_LOOP_ROWS};
 
 /// Settings of the stepper.
 #[derive(Clone, Debug)]
@@ -85,6 +88,18 @@ pub enum StepError {
     SingularMassMatrix { step: u64, t: f64 },
     #[error("step {step} (t = {t:.6} s): the velocity locks are redundant or singular")]
     SingularLocks { step: u64, t: f64 },
+    /// A loop joint's rows lost rank (the mechanism reached a singular configuration) or
+    /// the projection onto its closure did not converge (docs/physics.md §8.4). The loop is
+    /// an index into `Model::loops` (plain data, so that a step's `Result` stays cheap);
+    /// the run loop names it (`hopsim_sim::RunError::Loop`).
+    #[error("step {step} (t = {t:.6} s): loop joint {loop_index} {}, loop error {error:.3e}", loop_failure(*.singular))]
+    Loop {
+        step: u64,
+        t: f64,
+        loop_index: usize,
+        singular: bool,
+        error: f64,
+    },
     #[error("step {step} (t = {t:.6} s): contact LCP of size {size} ended with {status} ({contacts} closed contacts)")]
     Lcp {
         step: u64,
@@ -93,6 +108,15 @@ pub enum StepError {
         contacts: usize,
         status: &'static str,
     },
+}
+
+/// What went wrong with a loop joint, in words (see [`StepError::Loop`]).
+pub fn loop_failure(singular: bool) -> &'static str {
+    if singular {
+        "reached a singular configuration (its rows lost rank)"
+    } else {
+        "could not be closed (the projection did not converge)"
+    }
 }
 
 /// The time-stepper: reused buffers for one model, so a step allocates nothing.
@@ -192,6 +216,9 @@ pub struct Stepper {
     stats: LcpStats,
     /// Whether stage 9 keeps the energy account (see [`Stepper::set_ledger`]).
     ledger: bool,
+    /// The projection onto the loop joints' closure (docs/physics.md §8.4); `None` for a
+    /// tree model, whose steps skip every loop stage.
+    loops: Option<LoopProjection>,
 }
 
 impl Stepper {
@@ -201,7 +228,9 @@ impl Stepper {
         let n = model.dof();
         let k = model.contact_count();
         let limits = model.limits().len();
-        let locks = model.bodies().len();
+        let loop_rows = model.loop_row_count();
+        // Equality rows: the brakes' (at most one per body), then the loops'.
+        let locks = model.bodies().len() + loop_rows;
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
         let kinematics = Kinematics::new(model);
@@ -250,6 +279,10 @@ impl Stepper {
                 s: vector(locks * locks),
                 s_factor: Factor::new(locks, false),
                 p: vector(locks),
+                brakes: 0,
+                loop_rows,
+                pivoted: PivotedFactor::new(locks),
+                loop_rank: loop_rows,
             },
             active: Vec::with_capacity(k),
             geometry: Vec::with_capacity(k),
@@ -280,6 +313,7 @@ impl Stepper {
             },
             stats: LcpStats::default(),
             ledger: true,
+            loops: LoopProjection::new(model),
         }
     }
 
@@ -341,7 +375,32 @@ impl Stepper {
         self.fill_gaps(model);
         self.stats = LcpStats::default();
         self.warm.forget();
+        if let Some(loops) = &mut self.loops {
+            loops.start(model, &self.kinematics);
+            self.locks.loop_rank = loops.rank;
+            self.record.loop_error = model.loop_error(&self.kinematics, &mut self.scratch);
+        }
         &self.record
+    }
+
+    /// Moves `state` onto the loop joints' closure (docs/physics.md §8.4): the nearest
+    /// positions in the mass-matrix metric, the velocities onto the closure's tangent
+    /// space; returns the loop error it found (m, rad for a weld's angle). A tree model's
+    /// state is left as it is (error 0). A state the projection cannot close is a
+    /// [`StepError::Loop`] at step 0.
+    pub fn assemble(&mut self, model: &Model, state: &mut State) -> Result<f64, StepError> {
+        let Some(loops) = self.loops.as_mut() else {
+            return Ok(0.0);
+        };
+        self.kinematics.update(model, &state.q, &state.u);
+        let gap = model.loop_error(&self.kinematics, &mut self.scratch);
+        // No rank to keep yet: the rank is taken at the start of the run.
+        loops.rank = 0;
+        let (q, u) = (state.q.as_mut_slice(), state.u.as_mut_slice());
+        loops
+            .project(model, &mut self.kinematics, q, u)
+            .map_err(|failure| failure.into_error(0, state.t))?;
+        Ok(gap)
     }
 
     /// The energies at the current kinematics into the record's account, field by field
@@ -431,7 +490,7 @@ impl Stepper {
         // Stage 2: kinematics, mass matrix and its factor, forces.
         self.dynamics::<N>(model, actuation, step, t)?;
         // Stage 3: applied impulses and velocity locks.
-        self.impulses_and_locks::<N>(actuation, step, t)?;
+        self.impulses_and_locks::<N>(model, actuation, step, t)?;
         // Stage 4: index set.
         let k = self.index_set::<N>(model);
         // Stage 5: free velocity ũ and G W.
@@ -442,6 +501,10 @@ impl Stepper {
         self.end_velocity::<N>(model, k);
         // Stage 8: end position q^E and time.
         self.integrate::<N>(model, state, step, t)?;
+        if self.loops.is_some() {
+            // Stage 8b: the end state onto the loops' closure.
+            self.close_loops(model, state, step, t)?;
+        }
         // Stage 9: energy ledger and gaps (observers only).
         self.ledger::<N>(model, actuation);
         Ok(())
@@ -535,6 +598,7 @@ impl Stepper {
     #[inline]
     fn impulses_and_locks<const N: usize>(
         &mut self,
+        model: &Model,
         actuation: &Actuation,
         step: u64,
         t: f64,
@@ -558,15 +622,34 @@ impl Stepper {
                     .add_torque_to(body, reaction, impulse, &mut self.impulse),
             }
         }
-        self.locks.count = actuation.locks.len();
-        if self.locks.count > 0
-            && !self
-                .locks
-                .prepare(&self.kinematics, &self.factor, &actuation.locks)
-        {
-            return Err(StepError::SingularLocks { step, t });
+        self.locks.brakes = actuation.locks.len();
+        self.locks.count = self.locks.brakes + self.locks.loop_rows;
+        if self.locks.count > 0 {
+            if let Err(row) =
+                self.locks
+                    .prepare(model, &self.kinematics, &self.factor, &actuation.locks)
+            {
+                return Err(self.singular_equalities(model, row, step, t));
+            }
         }
         Ok(())
+    }
+
+    /// The error of a step whose equality row `row` is dependent on the others: a loop's
+    /// (a singular configuration, docs/physics.md §8.3) or a brake's (redundant locks).
+    #[cold]
+    #[inline(never)]
+    fn singular_equalities(&mut self, model: &Model, row: usize, step: u64, t: f64) -> StepError {
+        match row.checked_sub(self.locks.brakes) {
+            Some(r) => StepError::Loop {
+                step,
+                t,
+                loop_index: model.loop_of_row(r),
+                singular: true,
+                error: model.loop_error(&self.kinematics, &mut self.scratch),
+            },
+            None => StepError::SingularLocks { step, t },
+        }
     }
 
     /// Stage 4, docs/physics.md §4.1 step 2: the index set `H` (enabled contacts with
@@ -1134,11 +1217,82 @@ impl Stepper {
             energy.limit_work += self.lambda_limit[r] * dot(row(&self.w_limit, n, r), mean);
         }
         self.record.locks.clear();
+        if self.locks.count > 0 {
+            self.equality_works::<N>(actuation);
+        }
+    }
+
+    /// The works of the equality rows' percussions (brakes, loop joints) into the ledger,
+    /// and the brakes' impulses into the record (see [`Stepper::add_works`]; the mean
+    /// velocity is in `scratch`). Out of line: most steps have no equality rows.
+    #[inline(never)]
+    fn equality_works<const N: usize>(&mut self, actuation: &Actuation) {
+        let n = dof::<N>(self.n);
+        self.lock_force::<N>();
+        let work = dot(&self.force, &self.scratch[..n]);
+        if self.locks.loop_rows == 0 {
+            self.record.energy.lock_work += work;
+        } else {
+            // The brakes' share is their impulses times their rows' mean velocity; the
+            // loops' percussions did the rest (docs/physics.md §8.2).
+            let brakes = self.brake_work::<N>();
+            self.record.energy.lock_work += brakes;
+            self.record.energy.loop_work += work - brakes;
+        }
         if !actuation.locks.is_empty() {
-            self.lock_force::<N>();
-            self.record.energy.lock_work += dot(&self.force, &self.scratch[..n]);
             self.push_lock_records(actuation);
         }
+    }
+
+    /// The brakes' work `Σ P_c b_cᵀ ū` of the step, from the equality force `B P` (in
+    /// `force`) and the mean velocity `ū` (in `scratch`).
+    fn brake_work<const N: usize>(&mut self) -> f64 {
+        let (n, brakes) = (dof::<N>(self.n), self.locks.brakes);
+        if brakes == 0 {
+            return 0.0;
+        }
+        self.locks.impulses(&self.force);
+        let (mean, locks) = (&self.scratch[..n], &self.locks);
+        locks.p[..brakes]
+            .iter()
+            .zip(locks.b.chunks_exact(n))
+            .map(|(p, b)| p * dot(b, mean))
+            .sum()
+    }
+
+    /// Stage 8b, only for a model with loop joints (docs/physics.md §8.4): the end state
+    /// projected onto the loops' closure and its tangent space, the loop error into the
+    /// record and, with the energy account, the projection's change of energy. Kept out of
+    /// line: a tree model's steps never call it.
+    #[inline(never)]
+    fn close_loops(
+        &mut self,
+        model: &Model,
+        state: &mut State,
+        step: u64,
+        t: f64,
+    ) -> Result<(), StepError> {
+        let Some(loops) = self.loops.as_mut() else {
+            return Ok(());
+        };
+        let energy = |kinematics: &Kinematics| {
+            let e = model.energies(kinematics);
+            e.kinetic + e.potential + e.spring
+        };
+        let before = if self.ledger {
+            energy(&self.kinematics)
+        } else {
+            0.0
+        };
+        let (q, u) = (state.q.as_mut_slice(), state.u.as_mut_slice());
+        match loops.project(model, &mut self.kinematics, q, u) {
+            Ok(error) => self.record.loop_error = error,
+            Err(failure) => return Err(failure.into_error(step, t)),
+        }
+        if self.ledger {
+            self.record.energy.projection += energy(&self.kinematics) - before;
+        }
+        Ok(())
     }
 
     /// The generalised lock force `B P = M (u^E − u^A) − h Δt − impulses − W Λ` of the
@@ -1211,10 +1365,14 @@ fn row(data: &[f64], n: usize, i: usize) -> &[f64] {
     &data[i * n..(i + 1) * n]
 }
 
-/// The velocity locks (brakes) of one step, `Bᵀ u^E = 0` (docs/physics.md §4.4): row-major
-/// `l × n` buffers with the rows `b_c = ∂(θ_body − θ_other)/∂q` of `Bᵀ` and
-/// `y_c = M⁻¹ b_c`, the factor of `S = Bᵀ M⁻¹ B` and an `l`-vector.
+/// The equality rows of one step, `Bᵀ u^E = 0`: the velocity locks (brakes, docs/physics.md
+/// §4.4), then the loop joints' rows at `q^M` (§8.2). Row-major `l × n` buffers with the
+/// rows `b_c` of `Bᵀ` (`∂(θ_body − θ_other)/∂q` for a brake, `∂φ/∂q` for a loop row) and
+/// `y_c = M⁻¹ b_c`, the factor of `S = Bᵀ M⁻¹ B` and an `l`-vector. Without loop rows `S`
+/// takes the plain `L D Lᵀ` factor (redundant locks are an error); with them the pivoted,
+/// rank-revealing one, whose dependent rows take no percussion (§8.3).
 struct Locks {
+    /// Rows in this step: `brakes + loop_rows`.
     count: usize,
     n: usize,
     b: Vec<f64>,
@@ -1222,22 +1380,34 @@ struct Locks {
     s: Vec<f64>,
     s_factor: Factor,
     p: Vec<f64>,
+    /// The brakes of this step (the first rows).
+    brakes: usize,
+    /// The model's loop rows (the last rows of every step).
+    loop_rows: usize,
+    pivoted: PivotedFactor,
+    /// The rank of the loop rows at the run's start.
+    loop_rank: usize,
 }
 
 impl Locks {
-    /// Builds `B`, `Y = M⁻¹ B` (`factor`: that of `M`) and factors `S`; `false` when `S` is
-    /// singular (redundant locks).
+    /// Builds `B`, `Y = M⁻¹ B` (`factor`: that of `M`) and factors `S`; the error is a row
+    /// that makes `S` singular (redundant locks, or rows fewer than the loops' rank at the
+    /// start independent: a singular configuration).
     fn prepare(
         &mut self,
+        model: &Model,
         kinematics: &Kinematics,
         factor: &Factor,
         locks: &[(usize, usize)],
-    ) -> bool {
+    ) -> Result<(), usize> {
         let (n, l) = (self.n, self.count);
         for (c, &(a, b)) in locks.iter().enumerate() {
             let row = &mut self.b[c * n..(c + 1) * n];
             row.fill(0.0);
             kinematics.add_torque_to(a, Some(b), 1.0, row);
+        }
+        if self.loop_rows > 0 {
+            model.loop_rows_to(kinematics, &mut self.b[self.brakes * n..l * n]);
         }
         self.y[..l * n].copy_from_slice(&self.b[..l * n]);
         factor.solve(&mut self.y[..l * n]);
@@ -1246,7 +1416,28 @@ impl Locks {
                 self.s[r * l + c] = dot(&self.b[r * n..(r + 1) * n], &self.y[c * n..(c + 1) * n]);
             }
         }
-        self.s_factor.factor(&self.s, l)
+        if self.loop_rows == 0 {
+            return if self.s_factor.factor(&self.s, l) {
+                Ok(())
+            } else {
+                Err(0)
+            };
+        }
+        let rank = self.pivoted.factor(&self.s, l, DEPENDENT_LOOP_ROWS);
+        if rank < self.brakes + self.loop_rank {
+            return Err(self.pivoted.dependent().first().copied().unwrap_or(0));
+        }
+        Ok(())
+    }
+
+    /// `S x = p` for the `l`-vector `p` in place (see [`Locks`]).
+    fn solve_s(&mut self) {
+        let l = self.count;
+        if self.loop_rows == 0 {
+            self.s_factor.solve(&mut self.p[..l]);
+        } else {
+            self.pivoted.solve(&mut self.p[..l]);
+        }
     }
 
     /// `x ← x − G B S⁻¹ Bᵀ x` (nothing without locks): applied to `M⁻¹ v` it gives the
@@ -1259,14 +1450,15 @@ impl Locks {
         for c in 0..l {
             self.p[c] = dot(&self.b[c * n..(c + 1) * n], x);
         }
-        self.s_factor.solve(&mut self.p[..l]);
+        self.solve_s();
         for c in 0..l {
             axpy(-self.p[c], &self.y[c * n..(c + 1) * n], x);
         }
     }
 
     /// The lock impulses `P = (Bᵀ B)⁻¹ Bᵀ (B P)` from the generalised lock force `B P`
-    /// (exact, since `B P` lies in the range of `B`); overwrites the factor of `S`.
+    /// (exact, since `B P` lies in the range of `B`; with loop rows a solution of the
+    /// pivoted factor, zero on dependent rows); overwrites the factor of `S`.
     fn impulses(&mut self, bp: &[f64]) -> &[f64] {
         let (n, l) = (self.n, self.count);
         for r in 0..l {
@@ -1276,7 +1468,10 @@ impl Locks {
             }
             self.p[r] = dot(b_r, bp);
         }
-        if self.s_factor.factor(&self.s, l) {
+        if self.loop_rows > 0 {
+            self.pivoted.factor(&self.s, l, DEPENDENT_LOOP_ROWS);
+            self.pivoted.solve(&mut self.p[..l]);
+        } else if self.s_factor.factor(&self.s, l) {
             self.s_factor.solve(&mut self.p[..l]);
         }
         &self.p[..l]

@@ -318,3 +318,24 @@ fn body_contacts_do_not_allocate() {
     assert_eq!(count, 0);
     assert!(most >= 3, "{most} body–body contacts at most");
 }
+
+#[test]
+fn a_four_bar_with_its_loop_joint_and_a_brake_does_not_allocate() {
+    let model = common::four_bar([0.1, 0.35, 0.25, 0.3], 9.81, None);
+    let mut state = common::state(&[0.3, 1.0, 1.4], &[12.0, 0.0, 0.0]);
+    let mut stepper = common::stepper(&model, 1e-4);
+    stepper.assemble(&model, &mut state).unwrap();
+    stepper.start(&model, &state);
+    let mut act = Actuation::default();
+    // The warm-up includes a braked stretch (the actuation's own list grows there).
+    let count = allocations(200, 2000, |k| {
+        // A brake between crank and coupler every other 100 steps: lock and loop rows together.
+        act.locks.clear();
+        if (k / 100) % 2 == 1 {
+            act.locks.push((1, 0));
+        }
+        let record = stepper.step(&model, &mut state, &act).unwrap();
+        assert!(record.loop_error <= 1e-10);
+    });
+    assert_eq!(count, 0);
+}

@@ -252,6 +252,9 @@ impl fmt::Display for RunReport {
             )?;
         }
         writeln!(f, "  max penetration    {:>10.3e} m", s.max_penetration_m)?;
+        if let Some(loop_error) = s.max_loop_error_m {
+            writeln!(f, "  max loop error     {loop_error:>10.3e} m")?;
+        }
         writeln!(
             f,
             "  LCP                {} solves ({} from the previous step's basis), {} failures, at most {} pivots",

@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use hopsim_model::{
-    Body, ContactMaterial, Joint, JointCoordinate, Model, Shape, ShapeInstance, Terrain, Vec2,
+    Body, ContactMaterial, Joint, JointCoordinate, LoopJoint, LoopKind, Model, ModelBuilder, Shape,
+    ShapeInstance, Terrain, Vec2,
 };
 use hopsim_step::{Actuation, State, StepRecord, StepSettings, Stepper, TorqueCommand};
 use nalgebra::DVector;
@@ -173,4 +174,67 @@ pub fn two_body_hopper_state(model: &Model, clearance: f64) -> State {
         .fold(f64::INFINITY, f64::min);
     s.q[1] = clearance - lowest;
     s
+}
+
+/// A uniform bar of length `l` and mass `m` on `joint`, its inertia about its centre.
+pub fn bar(name: &str, l: f64, m: f64, joint: Joint) -> Body {
+    let mut body = Body::base(name, m, m * l * l / 12.0);
+    body.joint = Some(joint);
+    body
+}
+
+/// A four-bar linkage of uniform 1 kg bars (docs/physics.md §8) with link lengths
+/// `[a, b, c, d]`: the crank `a` pinned at the origin, the coupler `b` on its end, the
+/// rocker `c` pinned at `(d, 0)`, the loop joint `coupler-rocker` closing the coupler's end
+/// on the rocker's. Coordinates `(θ_2, θ_3 − θ_2, θ_4)`: the crank's angle, the coupler's
+/// relative to it, the rocker's. `crank_inertia` replaces the crank's own (a flywheel).
+pub fn four_bar([a, b, c, d]: [f64; 4], gravity: f64, crank_inertia: Option<f64>) -> Model {
+    let mut crank = bar(
+        "crank",
+        a,
+        1.0,
+        Joint::revolute(None, Vec2::zeros(), Vec2::new(a / 2.0, 0.0)),
+    );
+    if let Some(i) = crank_inertia {
+        crank.inertia = i;
+    }
+    let coupler = bar(
+        "coupler",
+        b,
+        1.0,
+        Joint::revolute(Some(0), Vec2::new(a / 2.0, 0.0), Vec2::new(b / 2.0, 0.0)),
+    );
+    let mut rocker_joint = Joint::revolute(None, Vec2::new(d, 0.0), Vec2::new(c / 2.0, 0.0));
+    rocker_joint.coordinate = JointCoordinate::Absolute;
+    let rocker = bar("rocker", c, 1.0, rocker_joint);
+    closed_chain(
+        vec![crank, coupler, rocker],
+        gravity,
+        vec![LoopJoint {
+            name: "coupler-rocker".into(),
+            body_a: 1,
+            point_a: Vec2::new(b / 2.0, 0.0),
+            body_b: Some(2),
+            point_b: Vec2::new(c / 2.0, 0.0),
+            kind: LoopKind::Revolute,
+        }],
+    )
+}
+
+/// A model of `bodies` without shapes or terrain contacts under gravity `gravity` (along
+/// `−y`), closed by the loop joints `loops` (docs/physics.md §8).
+pub fn closed_chain(bodies: Vec<Body>, gravity: f64, loops: Vec<LoopJoint>) -> Model {
+    let mut builder = ModelBuilder::new(
+        bodies,
+        vec![],
+        Terrain::flat(-100.0),
+        vec![],
+        Vec2::new(0.0, -gravity),
+        ContactMaterial::inelastic(0.0),
+    )
+    .unwrap();
+    for joint in loops {
+        builder.add_loop(joint).unwrap();
+    }
+    builder.build()
 }
