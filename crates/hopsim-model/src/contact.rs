@@ -417,3 +417,32 @@ fn in_cone(n: Vec2, first: Vec2, last: Vec2) -> bool {
     let cross = |a: Vec2, b: Vec2| a.x * b.y - a.y * b.x;
     cross(first, n) >= 0.0 && cross(n, last) >= 0.0
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Just outside a corner of a square, nearer than round-off of its coordinates, the
+    /// direction from the corner means nothing: the normal is the nearest edge's; a little
+    /// farther it is the direction from the corner.
+    #[test]
+    fn the_normal_at_a_polygon_corner_falls_back_to_an_edge() {
+        let square = [
+            Vec2::new(-0.5, -0.5),
+            Vec2::new(0.5, -0.5),
+            Vec2::new(0.5, 0.5),
+            Vec2::new(-0.5, 0.5),
+        ];
+        let diagonal = Vec2::new(1.0, 1.0).normalize();
+        let corner = Vec2::new(0.5, 0.5);
+        let (d, p, normal) = polygon_signed_distance(&square, corner + 1e-12 * diagonal).unwrap();
+        assert!(d > 0.0 && d < 2e-12);
+        assert_eq!(p, corner);
+        assert!(
+            normal == Vec2::new(1.0, 0.0) || normal == Vec2::new(0.0, 1.0),
+            "{normal:?}"
+        );
+        let (_, _, normal) = polygon_signed_distance(&square, corner + 1e-6 * diagonal).unwrap();
+        assert!((normal - diagonal).norm() < 1e-9, "{normal:?}");
+    }
+}

@@ -142,4 +142,57 @@ mod tests {
         let p = closest_point_on_ellipse(1.0, 2.0, Vec2::new(-5.0, 0.0));
         assert_eq!((p.point, p.signed_distance), (Vec2::new(-1.0, 0.0), 4.0));
     }
+
+    /// Inside and outside, on the axes and off them, for both orientations: the point is
+    /// on the ellipse, `y` lies on its normal line there, no point of a fine sampling of
+    /// the ellipse is nearer, and the sign says inside.
+    #[test]
+    fn the_closest_point_is_the_nearest_of_the_ellipse() {
+        let samples: usize = 20_000;
+        for (a, b) in [(2.0_f64, 1.0_f64), (1.0, 2.0), (0.3, 0.25)] {
+            let scale = a.max(b);
+            for y in [
+                (0.25, 0.0),
+                (-0.4, 0.0),
+                (0.0, 0.2),
+                (0.0, -0.1),
+                (0.3, 0.2),
+                (-0.5, 0.1),
+                (0.2, -0.6),
+                (1.1, 0.9),
+                (-2.0, 0.0),
+                (0.0, 1.7),
+                (1.5, -1.5),
+            ] {
+                let y = scale * Vec2::new(y.0, y.1);
+                let p = closest_point_on_ellipse(a, b, y);
+                let x = p.point;
+                let on = (x.x / a).powi(2) + (x.y / b).powi(2);
+                assert!(
+                    (on - 1.0).abs() < 1e-12,
+                    "{a}, {b}, {y:?}: {x:?} off the ellipse"
+                );
+                let d = y - x;
+                assert!((d.norm() - p.signed_distance.abs()).abs() < 1e-14 * scale);
+                let cross = d.x * p.normal.y - d.y * p.normal.x;
+                assert!(
+                    cross.abs() < 1e-12 * scale,
+                    "{a}, {b}, {y:?}: not along the normal"
+                );
+                let nearest = (0..samples)
+                    .map(|k| {
+                        let t = k as f64 * std::f64::consts::TAU / samples as f64;
+                        (Vec2::new(a * t.cos(), b * t.sin()) - y).norm()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    d.norm() <= nearest + 1e-12 * scale,
+                    "{a}, {b}, {y:?}: {} farther than a sample at {nearest}",
+                    d.norm()
+                );
+                let inside = (y.x / a).powi(2) + (y.y / b).powi(2) < 1.0;
+                assert_eq!(p.signed_distance < 0.0, inside, "{a}, {b}, {y:?}");
+            }
+        }
+    }
 }
