@@ -8,8 +8,8 @@ use crate::pairs::{
 };
 use crate::structure::Structure;
 use crate::{
-    Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance,
-    Spring, Terrain, Vec2,
+    Actuator, Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature,
+    ShapeInstance, Spring, Terrain, Vec2,
 };
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
 
@@ -41,6 +41,8 @@ pub enum ModelError {
     BadShape { shape: String, reason: String },
     #[error("spring '{spring}': {reason}")]
     BadSpring { spring: String, reason: String },
+    #[error("actuator '{actuator}': {reason}")]
+    BadActuator { actuator: String, reason: String },
     #[error("contact between shapes '{first}' and '{second}': {reason}")]
     BadPair {
         first: String,
@@ -106,6 +108,8 @@ pub struct Model {
     gravity: Vec2,
     limits: Vec<LimitCandidate>,
     pairs: Vec<PairCandidate>,
+    /// The actuators (`crate::actuators`), in control order.
+    pub(crate) actuators: Vec<Actuator>,
     /// First generalised coordinate of each body (for a fixed body: the next body's).
     pub(crate) first_coordinate: Vec<usize>,
     /// Number of generalised coordinates.
@@ -153,6 +157,7 @@ impl ModelBuilder {
                 gravity,
                 limits,
                 pairs: Vec::new(),
+                actuators: Vec::new(),
                 first_coordinate,
                 dof,
                 structure: Structure::empty(),
@@ -218,6 +223,15 @@ impl ModelBuilder {
         let added = new.len();
         model.pairs.extend(new);
         Ok(added)
+    }
+
+    /// Adds an actuator (docs/physics.md §7.4), checked against the model: a body with a
+    /// joint, a name of its own, finite gains, a non-zero gear, ordered ranges. Returns its
+    /// index, the index of its control.
+    pub fn add_actuator(&mut self, actuator: Actuator) -> Result<usize, ModelError> {
+        crate::actuators::check_actuator(&actuator, &self.model)?;
+        self.model.actuators.push(actuator);
+        Ok(self.model.actuators.len() - 1)
     }
 
     /// The model, with its constants (docs/physics.md §7: the Jacobian's sparsity and
