@@ -158,6 +158,18 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("cane_delay", NUMBER, "timed: fraction of the period"),
         ("cane_duration", NUMBER, "timed: fraction of the period"),
     )),
+    _Section("actuators", "actuator", True, (
+        ("name", STRING, "unique (default actuator<i>); its control's name"),
+        ("joint", STRING, "the body whose joint it drives; required"),
+        ("kind", STRING, '"motor", "position" or "velocity"; required'),
+        ("gear", NUMBER, "length gear · s, generalised force gear · force (1)"),
+        ("kp", NUMBER, "position: force kp (ctrl − gear s), ≥ 0; required"),
+        ("kv", NUMBER, "position: damping −kv gear ṡ (0); velocity: kv (ctrl − gear ṡ); ≥ 0"),
+        ("ctrl_range", VEC2, "[lower, upper]: the control is clamped to it"),
+        ("force_range", VEC2, "[lower, upper]: the force is clamped to it, N m or N"),
+        ("control", VALUE, 'the control signal, a dict: {"kind": "constant", "sine", "pulse", '
+                           '"table" or "csv", …} (docs/scene-format.md)'),
+    )),
     _Section("initial", "initial", False, (
         ("q", NUMBERS, "one value per coordinate, m or rad; required"),
         ("u", NUMBERS, "generalised velocities, m/s or rad/s (zeros)"),
@@ -375,6 +387,9 @@ class Model:
 
     def contact_pair(self, shapes: Sequence[str], **keys: Any) -> "Model":
         return self._entry(_Call("contact_pair", {"shapes": shapes, **keys}, lead="shapes"))
+
+    def actuator(self, name: Optional[str] = None, **keys: Any) -> "Model":
+        return self._named("actuator", name, keys, ("joint", "kind"))
 
     # The scene.
 
@@ -625,6 +640,7 @@ def _document_methods() -> None:
         "shape": "A contact shape (``[[shapes]]``); the same name again changes it.",
         "spring": "A linear spring between points of two bodies (``[[springs]]``).",
         "contact_pair": "An explicit body–body contact pair (``[[contact_pairs]]``).",
+        "actuator": "A motor or servo in a body's joint (``[[actuators]]``).",
     }
     for section in _SECTIONS:
         method = getattr(Model, section.method)
