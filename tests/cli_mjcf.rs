@@ -64,7 +64,9 @@ fn a_model_runs_checks_and_imports_as_a_scene_that_runs_bit_for_bit() {
     let toml = std::fs::read_to_string(&scene).unwrap();
     assert!(toml.contains("type = \"capsule\""), "{toml}");
     assert!(
-        toml.contains("[[actuators]]\nname = \"actuator0\"\njoint = \"arm\"\ngear = 2.0\nkind = \"motor\""),
+        toml.contains(
+            "[[actuators]]\nname = \"actuator0\"\njoint = \"arm\"\ngear = 2.0\nkind = \"motor\""
+        ),
         "{toml}"
     );
 

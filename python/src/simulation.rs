@@ -493,8 +493,13 @@ impl PySimulation {
                     )
                 })?;
                 self.scene.model.actuator_index(&name).ok_or_else(|| {
-                    let names: Vec<&str> =
-                        self.scene.model.actuators().iter().map(|a| a.name.as_str()).collect();
+                    let names: Vec<&str> = self
+                        .scene
+                        .model
+                        .actuators()
+                        .iter()
+                        .map(|a| a.name.as_str())
+                        .collect();
                     pyo3::exceptions::PyKeyError::new_err(format!(
                         "no actuator named '{name}'; the actuators are {names:?}"
                     ))

@@ -27,7 +27,8 @@ struct Draw {
 }
 
 fn magnitude() -> impl Strategy<Value = f64> {
-    (-6.0f64..6.0, any::<bool>()).prop_map(|(e, neg)| if neg { -(10f64.powf(e)) } else { 10f64.powf(e) })
+    (-6.0f64..6.0, any::<bool>())
+        .prop_map(|(e, neg)| if neg { -(10f64.powf(e)) } else { 10f64.powf(e) })
 }
 
 fn draw() -> impl Strategy<Value = Draw> {
@@ -68,7 +69,11 @@ fn table(i: usize, joint: &str, d: &Draw) -> String {
         _ => d.kind as usize,
     };
     let gear = if d.damage == Some(0) { 0.0 } else { d.gear };
-    let joint = if d.damage == Some(3) { "no such body" } else { joint };
+    let joint = if d.damage == Some(3) {
+        "no such body"
+    } else {
+        joint
+    };
     let mut t = format!(
         "[[actuators]]\nname = \"a{i}\"\njoint = \"{joint}\"\nkind = \"{}\"\ngear = {gear:?}\n",
         ["motor", "position", "velocity"][kind]
@@ -83,7 +88,11 @@ fn table(i: usize, joint: &str, d: &Draw) -> String {
         Some(1) => (hi + 1.0, lo),
         _ => (lo, hi),
     });
-    let ctrl = if d.damage == Some(1) { ctrl.or(Some((1.0, 0.0))) } else { ctrl };
+    let ctrl = if d.damage == Some(1) {
+        ctrl.or(Some((1.0, 0.0)))
+    } else {
+        ctrl
+    };
     if let Some((lo, hi)) = ctrl {
         t += &format!("ctrl_range = [{lo:?}, {hi:?}]\n");
     }

@@ -87,7 +87,13 @@ fn write_actuators(
         // is a bound on the force of its one actuator.
         let mut force = a.force_range;
         if let Some([lo, hi]) = joint.actuator_force_range {
-            if model.actuators.iter().filter(|b| b.joint == a.joint).count() > 1 {
+            if model
+                .actuators
+                .iter()
+                .filter(|b| b.joint == a.joint)
+                .count()
+                > 1
+            {
                 return Err(format!(
                     "joint `{}` bounds the summed force of several actuators \
                      (actuatorfrcrange); a scene bounds each actuator's own",

@@ -48,12 +48,12 @@ fn an_actuator_reads_as_written_with_its_csv_signal() {
     let dir = tempfile::tempdir().unwrap();
     let scene = load(dir.path(), "time,angle\n0,0\n# hold\n1,0.4\n2,0.4\n", &[]).unwrap();
     let a = &scene.model.actuators()[0];
-    assert_eq!(
-        (a.name.as_str(), a.body, a.gear),
-        ("hip", 0, 2.0)
-    );
+    assert_eq!((a.name.as_str(), a.body, a.gear), ("hip", 0, 2.0));
     assert_eq!(a.kind, ActuatorKind::Position { kp: 80.0, kv: 0.0 });
-    assert_eq!((a.ctrl_range, a.force_range), (Some([-0.5, 0.5]), Some([-30.0, 30.0])));
+    assert_eq!(
+        (a.ctrl_range, a.force_range),
+        (Some([-0.5, 0.5]), Some([-30.0, 30.0]))
+    );
     let (index, signal) = &scene.control_signals[0];
     assert_eq!(*index, 0);
     assert_eq!(signal.value(0.5), 0.2);
@@ -66,7 +66,11 @@ fn set_reaches_an_actuators_keys() {
     let scene = load(
         dir.path(),
         "0,0\n",
-        &["actuators.hip.kp=5", "actuators.hip.kind=velocity", "actuators.hip.kv=3"],
+        &[
+            "actuators.hip.kp=5",
+            "actuators.hip.kind=velocity",
+            "actuators.hip.kv=3",
+        ],
     );
     let err = scene.unwrap_err();
     // A velocity servo has no kp: the key left over is refused by name.

@@ -341,7 +341,10 @@ fn imported_actuators_have_mujocos_forces() {
     let mut cases = Vec::new();
     let servos = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models/servos.xml");
     let shipped = listing["models"].as_array().unwrap().iter();
-    for path in shipped.map(|p| p.as_str().unwrap()).chain([servos.to_str().unwrap()]) {
+    for path in shipped
+        .map(|p| p.as_str().unwrap())
+        .chain([servos.to_str().unwrap()])
+    {
         let scene = hopsim_scene::load(Path::new(path), &[]).unwrap_or_else(|e| panic!("{e}"));
         let actuators = scene.model.actuators();
         if actuators.is_empty() {
@@ -372,10 +375,15 @@ fn imported_actuators_have_mujocos_forces() {
     };
     let mut worst = 0.0f64;
     let mut kinds = std::collections::BTreeSet::new();
-    for ((path, scene, states), theirs) in cases.iter().zip(answer["models"].as_array().unwrap())
-    {
+    for ((path, scene, states), theirs) in cases.iter().zip(answer["models"].as_array().unwrap()) {
         for a in scene.model.actuators() {
-            kinds.insert(format!("{:?}", a.kind).split([' ', '{']).next().unwrap().to_string());
+            kinds.insert(
+                format!("{:?}", a.kind)
+                    .split([' ', '{'])
+                    .next()
+                    .unwrap()
+                    .to_string(),
+            );
         }
         for ((q, u, controls), theirs) in states.iter().zip(theirs["states"].as_array().unwrap()) {
             let mine = actuator_forces(scene, q, u, controls);

@@ -369,5 +369,8 @@ fn actuators_with_changing_controls_do_not_allocate() {
         clamped[usize::from((0.05 * (act.controls[0] - speed)).abs() > 0.2)] = true;
     });
     assert_eq!(count, 0, "{count} allocations in 3000 steps");
-    assert!(clamped[0] && clamped[1], "the servo's force was clamped in some steps only");
+    assert!(
+        clamped[0] && clamped[1],
+        "the servo's force was clamped in some steps only"
+    );
 }
