@@ -113,7 +113,8 @@ impl Actuator {
     }
 }
 
-/// What is wrong with `a` in a model of `bodies`, if anything.
+/// Whether `a` fits `model`: a named actuator of its own on a body with a joint coordinate,
+/// finite non-negative gains, a finite non-zero gear, ordered ranges.
 pub(crate) fn check_actuator(a: &Actuator, model: &Model) -> Result<(), ModelError> {
     let bad = |reason: String| ModelError::BadActuator {
         actuator: a.name.clone(),
@@ -196,7 +197,7 @@ impl Model {
         self.actuators.iter().filter(|a| a.has_damping()).count()
     }
 
-    /// Each actuator's force at the kinematics' state under `controls` (one per actuator).
+    /// Actuator `a`'s force at the kinematics' state under the control `ctrl`.
     #[inline]
     pub fn actuator_force(&self, kinematics: &Kinematics, a: usize, ctrl: f64) -> ActuatorForce {
         let actuator = &self.actuators[a];
@@ -205,15 +206,16 @@ impl Model {
     }
 
     /// Adds the actuators' generalised forces (MuJoCo's `qfrc_actuator`) at the kinematics'
-    /// state under `controls` (one per actuator) to `out` (length `n`).
+    /// state under `controls` (one per actuator; those past its end are 0) to `out`
+    /// (length `n`).
     pub fn add_actuator_forces_to(
         &self,
         kinematics: &Kinematics,
         controls: &[f64],
         out: &mut [f64],
     ) {
-        for (a, (actuator, &ctrl)) in self.actuators.iter().zip(controls).enumerate() {
-            let f = self.actuator_force(kinematics, a, ctrl).force;
+        for (a, actuator) in self.actuators.iter().enumerate() {
+            let f = self.actuator_force(kinematics, a, control(controls, a)).force;
             self.add_joint_force_to(kinematics, actuator.body, actuator.gear * f, out);
         }
     }
@@ -223,7 +225,8 @@ impl Model {
     /// writes that term as a damper (coefficient `gear² k_v` into `coefficients`, row into
     /// `rows`, row-major, length `n`) to be taken at the step's mean velocity (§4.9).
     /// Returns the number of dampers written; the slices hold
-    /// [`Model::actuator_damper_capacity`] dampers.
+    /// [`Model::actuator_damper_capacity`] dampers. Controls past the end of `controls`
+    /// are 0.
     pub fn actuator_forces_split(
         &self,
         kinematics: &Kinematics,
@@ -234,9 +237,10 @@ impl Model {
     ) -> usize {
         let n = self.dof();
         let mut count = 0;
-        for (a, (actuator, &ctrl)) in self.actuators.iter().zip(controls).enumerate() {
+        for (a, actuator) in self.actuators.iter().enumerate() {
             let b = actuator.body;
-            let ActuatorForce { force, damping } = self.actuator_force(kinematics, a, ctrl);
+            let ActuatorForce { force, damping } =
+                self.actuator_force(kinematics, a, control(controls, a));
             if damping == 0.0 {
                 self.add_joint_force_to(kinematics, b, actuator.gear * force, applied);
                 continue;
@@ -252,4 +256,10 @@ impl Model {
         }
         count
     }
+}
+
+/// Control `a` of `controls`, 0 past its end.
+#[inline]
+fn control(controls: &[f64], a: usize) -> f64 {
+    controls.get(a).copied().unwrap_or(0.0)
 }
