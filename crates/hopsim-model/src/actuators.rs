@@ -23,6 +23,17 @@ pub enum ActuatorKind {
     Velocity { kv: f64 },
 }
 
+impl ActuatorKind {
+    /// The kind's name in scenes: `motor`, `position` or `velocity`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ActuatorKind::Motor => "motor",
+            ActuatorKind::Position { .. } => "position",
+            ActuatorKind::Velocity { .. } => "velocity",
+        }
+    }
+}
+
 /// An actuator in the joint of one body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Actuator {
@@ -215,7 +226,9 @@ impl Model {
         out: &mut [f64],
     ) {
         for (a, actuator) in self.actuators.iter().enumerate() {
-            let f = self.actuator_force(kinematics, a, control(controls, a)).force;
+            let f = self
+                .actuator_force(kinematics, a, control(controls, a))
+                .force;
             self.add_joint_force_to(kinematics, actuator.body, actuator.gear * f, out);
         }
     }

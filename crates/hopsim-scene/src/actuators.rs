@@ -14,14 +14,16 @@ pub const MAX_ACTUATORS: usize = 100;
 /// Largest CSV control file read, bytes.
 pub const MAX_CONTROL_FILE_BYTES: u64 = 8 << 20;
 
-/// The actuators of `tables` (in order) and their control signals `(actuator, signal)`;
-/// a CSV file is read relative to `base` (the scene's folder).
+/// The actuators of a scene, in order, and their control signals `(actuator, signal)`.
+pub(crate) type Actuators = (Vec<Actuator>, Vec<(usize, ControlSignal)>);
+
+/// The actuators of `tables`; a CSV file is read relative to `base` (the scene's folder).
 pub(crate) fn read_actuators(
     tables: &[Table<'_>],
     bodies: &[Body],
     body_names: &Names,
     base: &Path,
-) -> Result<(Vec<Actuator>, Vec<(usize, ControlSignal)>), SceneError> {
+) -> Result<Actuators, SceneError> {
     check_count(tables, MAX_ACTUATORS, "actuators", "")?;
     let mut names = Names::new(("actuator", "actuators"));
     let mut actuators = Vec::with_capacity(tables.len());

@@ -377,13 +377,7 @@ fn imported_actuators_have_mujocos_forces() {
     let mut kinds = std::collections::BTreeSet::new();
     for ((path, scene, states), theirs) in cases.iter().zip(answer["models"].as_array().unwrap()) {
         for a in scene.model.actuators() {
-            kinds.insert(
-                format!("{:?}", a.kind)
-                    .split([' ', '{'])
-                    .next()
-                    .unwrap()
-                    .to_string(),
-            );
+            kinds.insert(a.kind.name());
         }
         for ((q, u, controls), theirs) in states.iter().zip(theirs["states"].as_array().unwrap()) {
             let mine = actuator_forces(scene, q, u, controls);
