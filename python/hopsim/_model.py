@@ -169,6 +169,18 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("cane_delay", NUMBER, "timed: fraction of the period"),
         ("cane_duration", NUMBER, "timed: fraction of the period"),
     )),
+    _Section("actuators", "actuator", True, (
+        ("name", STRING, "unique (default actuator<i>); its control's name"),
+        ("joint", STRING, "the body whose joint it drives; required"),
+        ("kind", STRING, '"motor", "position" or "velocity"; required'),
+        ("gear", NUMBER, "length gear · s, generalised force gear · force (1)"),
+        ("kp", NUMBER, "position: force kp (ctrl − gear s), ≥ 0; required"),
+        ("kv", NUMBER, "position: damping −kv gear ṡ (0); velocity: kv (ctrl − gear ṡ); ≥ 0"),
+        ("ctrl_range", VEC2, "[lower, upper]: the control is clamped to it"),
+        ("force_range", VEC2, "[lower, upper]: the force is clamped to it, N m or N"),
+        ("control", VALUE, 'the control signal, a dict: {"kind": "constant", "sine", "pulse", '
+                           '"table" or "csv", …} (docs/scene-format.md)'),
+    )),
     _Section("initial", "initial", False, (
         ("q", NUMBERS, "one value per coordinate, m or rad; required"),
         ("u", NUMBERS, "generalised velocities, m/s or rad/s (zeros)"),
@@ -389,6 +401,9 @@ class Model:
 
     def loop(self, name: Optional[str] = None, **keys: Any) -> "Model":
         return self._named("loop", name, keys, ("type", "body_a"))
+
+    def actuator(self, name: Optional[str] = None, **keys: Any) -> "Model":
+        return self._named("actuator", name, keys, ("joint", "kind"))
 
     # The scene.
 
@@ -641,6 +656,7 @@ def _document_methods() -> None:
         "contact_pair": "An explicit body–body contact pair (``[[contact_pairs]]``).",
         "loop": "A loop joint closing a kinematic loop (``[[loops]]``); the same name again "
         "changes it.",
+        "actuator": "A motor or servo in a body's joint (``[[actuators]]``).",
     }
     for section in _SECTIONS:
         method = getattr(Model, section.method)

@@ -137,6 +137,19 @@ class Model:
         angle: Optional[float] = ...,
         axis: Optional[_Vec2] = ...,
     ) -> "Model": ...
+    def actuator(
+        self,
+        name: Optional[str] = None,
+        *,
+        joint: Optional[str] = ...,
+        kind: Optional[str] = ...,
+        gear: Optional[float] = ...,
+        kp: Optional[float] = ...,
+        kv: Optional[float] = ...,
+        ctrl_range: Optional[_Vec2] = ...,
+        force_range: Optional[_Vec2] = ...,
+        control: Optional[Mapping[str, Any]] = ...,
+    ) -> "Model": ...
     def controller(
         self,
         *,

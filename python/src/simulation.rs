@@ -171,9 +171,9 @@ impl PyActuation {
 /// out of range is an `IndexError`, anything else a `ValueError`.
 fn actuation_error(e: &ActuationError) -> PyErr {
     match e {
-        ActuationError::NoSuchBody { .. } | ActuationError::NoSuchShape { .. } => {
-            PyIndexError::new_err(e.to_string())
-        }
+        ActuationError::NoSuchBody { .. }
+        | ActuationError::NoSuchShape { .. }
+        | ActuationError::NoSuchActuator { .. } => PyIndexError::new_err(e.to_string()),
         _ => PyValueError::new_err(e.to_string()),
     }
 }
@@ -451,6 +451,74 @@ impl PySimulation {
             };
             set.map_err(|p| state_error(&p))
         })
+    }
+
+    /// The names of the scene's actuators (`[[actuators]]`, docs/physics.md §7.4), in the
+    /// order of `control`.
+    #[getter]
+    fn actuator_names(&self) -> Vec<String> {
+        self.scene
+            .model
+            .actuators()
+            .iter()
+            .map(|a| a.name.clone())
+            .collect()
+    }
+
+    /// The actuators' controls (a copy), held from step to step. Setting it sets every
+    /// control (one finite number per actuator). An actuator with a control signal in the
+    /// scene gets the signal's value before each step the scene's controller takes.
+    #[getter(control)]
+    fn get_control<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.shared().controls())
+    }
+
+    #[setter(control)]
+    fn set_control_all(&mut self, control: PyArrayLike1<'_, f64, AllowTypeChange>) -> PyResult<()> {
+        let control = control.as_array();
+        let values: Vec<f64> = control.iter().copied().collect();
+        self.sim()
+            .set_controls(&values)
+            .map_err(|e| actuation_error(&e))
+    }
+
+    /// Sets one actuator's control, by name or index (`actuator_names`).
+    fn set_control(&mut self, actuator: &Bound<'_, PyAny>, value: f64) -> PyResult<()> {
+        let index = match actuator.extract::<usize>() {
+            Ok(i) => i,
+            Err(_) => {
+                let name: String = actuator.extract().map_err(|_| {
+                    pyo3::exceptions::PyTypeError::new_err(
+                        "set_control: expected an actuator's name (str) or index (int)",
+                    )
+                })?;
+                self.scene.model.actuator_index(&name).ok_or_else(|| {
+                    let names: Vec<&str> = self
+                        .scene
+                        .model
+                        .actuators()
+                        .iter()
+                        .map(|a| a.name.as_str())
+                        .collect();
+                    pyo3::exceptions::PyKeyError::new_err(format!(
+                        "no actuator named '{name}'; the actuators are {names:?}"
+                    ))
+                })?
+            }
+        };
+        self.sim()
+            .set_control(index, value)
+            .map_err(|e| actuation_error(&e))
+    }
+
+    /// The generalised forces of the actuators at the current state under the current
+    /// controls, one per coordinate (MuJoCo's `qfrc_actuator`): `gear · force` on each
+    /// actuator's joint, controls and forces clamped to their ranges.
+    fn actuator_forces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let sim = self.shared();
+        let mut out = vec![0.0; sim.state().q.len()];
+        sim.actuator_forces_to(&mut out);
+        PyArray1::from_vec(py, out)
     }
 
     /// Absolute angular velocity of each body, rad/s (a copy).

@@ -189,6 +189,16 @@ def test_the_builder_knows_the_keys_the_scene_reader_knows():
         .shape("rod", body="rod", type="capsule", from_=[-0.1, 0.0], to=[0.1, 0.0], radius=0.02)
     )
     known["shapes"] |= reader_keys(rod, "shapes.0")
+    # A position servo asks every key of an actuator: no bundled scene has one.
+    arm = (
+        hopsim.Model("arm")
+        .simulation(duration=1.0, dt=1e-3)
+        .environment(terrain="none")
+        .body("arm", base="pinned", mass=1.0, inertia=1e-2)
+        .actuator("shoulder", joint="arm", kind="position", kp=1.0)
+        .initial(q=[0.0])
+    )
+    known["actuators"] |= reader_keys(arm, "actuators.0")
     for table, keys in known.items():
         assert set(hopsim._model._BY_TABLE[table].keys) == keys, table
 

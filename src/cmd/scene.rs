@@ -108,9 +108,28 @@ fn describe(scene: &Scene) -> String {
             )
         }
     };
+    // Only a scene with actuators lists them (in the order of their controls).
+    let actuators: String = m
+        .actuators()
+        .iter()
+        .map(|a| {
+            format!(
+                "{} ({} on '{}')",
+                a.name,
+                a.kind.name(),
+                m.bodies()[a.body].name
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let actuators = if actuators.is_empty() {
+        String::new()
+    } else {
+        format!("  actuators    {actuators}\n")
+    };
     format!(
         "  title        {}\n  bodies       {} ({} coordinates: {})\n  shapes       {}\n  \
-         contacts     {} potential\n  springs      {}\n  controller   {controller}\n  \
+         contacts     {} potential\n  springs      {}\n  controller   {controller}\n{actuators}  \
          simulation   {} s in steps of {} s, recorded at {} Hz\n",
         scene.title,
         names(&mut m.bodies().iter().map(|b| b.name.as_str())),

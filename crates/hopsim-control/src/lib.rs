@@ -4,10 +4,12 @@
 mod config;
 mod momentum_impulse;
 mod pulse;
+mod signal;
 
 pub use config::{CaneMode, ControllerConfig, MomentumImpulseConfig, PulseConfig, Release};
 pub use momentum_impulse::MomentumImpulse;
 pub use pulse::Pulse;
+pub use signal::ControlSignal;
 
 use hopsim_model::{Kinematics, Model};
 use hopsim_step::{check_lock, Actuation, ActuationError, State};

@@ -9,7 +9,11 @@
 //!   against the plane's normal; a hinge's `ref` turns its body's frame, a slide's `ref`
 //!   moves its pivot, so that a coordinate equal to `qpos` puts the body where MuJoCo does.
 //! - Springs (`stiffness`, `springref`), damping, `armature` and `range` act on the
-//!   coordinate as in MuJoCo; `frictionloss` and the actuators are not modelled (notices).
+//!   coordinate as in MuJoCo; `frictionloss` is not modelled (a notice).
+//! - Actuators are `[[actuators]]` in MuJoCo's order (the order of `ctrl`), on their
+//!   joints' bodies: `<motor>`, `<position>` (`kp`, `kv`), `<velocity>` (`kv`) with gear,
+//!   control range (when `clampctrl` is on) and force range; a joint's
+//!   `actuatorfrcrange` bounds its one actuator's force (divided by the gear).
 //! - The one plane that touches the model's geoms is the terrain; the geoms that touch it
 //!   are shapes, and every pair of geoms MuJoCo lets collide is a contact pair. Friction
 //!   is MuJoCo's combination (the higher priority's, else the larger; frictionless when
@@ -17,7 +21,7 @@
 
 use std::fmt::Write as _;
 
-use crate::model::{Geom, JointKind, PlanarModel, Shape, Vec2};
+use crate::model::{ActuatorKind, Geom, JointKind, PlanarModel, Shape, Vec2};
 use crate::overlap::overlap;
 
 /// The seconds an imported scene runs for (MJCF has no duration; `--duration` sets it).
@@ -39,6 +43,78 @@ pub struct ImportError {
     /// The model's name.
     pub model: String,
     pub message: String,
+}
+
+/// `[[actuators]]` of `model`'s actuators (none when the `actuation` flag is off), on the
+/// links of their joints.
+fn write_actuators(
+    model: &PlanarModel,
+    links: &[Link],
+    t: &mut String,
+    notices: &mut Vec<String>,
+) -> Result<(), String> {
+    if !model.options.actuation && !model.actuators.is_empty() {
+        notices.push("actuation is disabled (<flag actuation>): no actuators".into());
+        return Ok(());
+    }
+    for (i, a) in model.actuators.iter().enumerate() {
+        let joint = &model.joints[a.joint];
+        let link = links
+            .iter()
+            .find(|l| l.joint == a.joint)
+            .map_or("", |l| l.name.as_str());
+        let name = a.name.clone().unwrap_or_else(|| format!("actuator{i}"));
+        let _ = writeln!(
+            t,
+            "[[actuators]]\nname = {}\njoint = {}\ngear = {}",
+            quote(&name),
+            quote(link),
+            num(a.gear)
+        );
+        match a.kind {
+            ActuatorKind::Motor => t.push_str("kind = \"motor\"\n"),
+            ActuatorKind::Position { kp, kv } => {
+                let _ = writeln!(t, "kind = \"position\"\nkp = {}\nkv = {}", num(kp), num(kv));
+            }
+            ActuatorKind::Velocity { kv } => {
+                let _ = writeln!(t, "kind = \"velocity\"\nkv = {}", num(kv));
+            }
+        }
+        if let Some([lo, hi]) = a.ctrl_range.filter(|_| model.options.clamp_controls) {
+            let _ = writeln!(t, "ctrl_range = [{}, {}]", num(lo), num(hi));
+        }
+        // The joint's bound on its actuators' summed generalised force, `gear · force`,
+        // is a bound on the force of its one actuator.
+        let mut force = a.force_range;
+        if let Some([lo, hi]) = joint.actuator_force_range {
+            if model
+                .actuators
+                .iter()
+                .filter(|b| b.joint == a.joint)
+                .count()
+                > 1
+            {
+                return Err(format!(
+                    "joint `{}` bounds the summed force of several actuators \
+                     (actuatorfrcrange); a scene bounds each actuator's own",
+                    joint.name
+                ));
+            }
+            let (x, y) = (lo / a.gear, hi / a.gear);
+            let [jlo, jhi] = [x.min(y), x.max(y)];
+            // Clamped into one range, then the other: clamped into the first's bounds
+            // clamped into the second.
+            force = Some(match force {
+                Some([flo, fhi]) => [flo.clamp(jlo, jhi), fhi.clamp(jlo, jhi)],
+                None => [jlo, jhi],
+            });
+        }
+        if let Some([lo, hi]) = force {
+            let _ = writeln!(t, "force_range = [{}, {}]", num(lo), num(hi));
+        }
+        t.push('\n');
+    }
+    Ok(())
 }
 
 /// A hopsim body: one MuJoCo joint's link.
@@ -353,20 +429,7 @@ pub fn scene_toml(model: &PlanarModel, source: &str) -> Result<SceneText, Import
         }
     }
 
-    for actuator in &model.actuators {
-        notices.push(format!(
-            "actuator {} on joint `{}` is not modelled: the scene runs without control{}",
-            actuator
-                .name
-                .as_deref()
-                .map_or("(unnamed)".to_string(), |n| format!("`{n}`")),
-            model.joints[actuator.joint].name,
-            match actuator.kind {
-                crate::ActuatorKind::Motor => " (a motor at zero control exerts no force)",
-                _ => " (at zero control this servo would hold its joint)",
-            }
-        ));
-    }
+    write_actuators(model, &links, &mut t, &mut notices).map_err(fail)?;
     if !model.options.contact {
         notices.push("contacts are disabled (<flag contact>): no terrain, no pairs".into());
     }

@@ -10,6 +10,7 @@
 //! [`Kinematics`] is the model evaluated at one state `(q, u)`, in buffers reused from one
 //! evaluation to the next.
 
+mod actuators;
 mod body;
 mod capsule;
 mod contact;
@@ -25,6 +26,7 @@ mod structure;
 mod terrain;
 mod trig;
 
+pub use actuators::{Actuator, ActuatorForce, ActuatorKind};
 pub use body::{Body, Joint, JointCoordinate, JointKind, JointLimits};
 pub use contact::{ContactCandidate, ContactGeometry, ContactMaterial, ShapeFeature};
 pub use forces::Spring;

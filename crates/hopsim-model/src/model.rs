@@ -9,8 +9,8 @@ use crate::pairs::{
 };
 use crate::structure::Structure;
 use crate::{
-    Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature, ShapeInstance,
-    Spring, Terrain, Vec2,
+    Actuator, Body, Joint, JointCoordinate, JointKind, Kinematics, Shape, ShapeFeature,
+    ShapeInstance, Spring, Terrain, Vec2,
 };
 use nalgebra::{DMatrix, DVector, DVectorViewMut};
 
@@ -44,6 +44,8 @@ pub enum ModelError {
     BadSpring { spring: String, reason: String },
     #[error("loop '{name}': {reason}")]
     BadLoop { name: String, reason: String },
+    #[error("actuator '{actuator}': {reason}")]
+    BadActuator { actuator: String, reason: String },
     #[error("contact between shapes '{first}' and '{second}': {reason}")]
     BadPair {
         first: String,
@@ -112,6 +114,8 @@ pub struct Model {
     /// Loop joints (docs/physics.md §8) and their number of rows.
     pub(crate) loops: Vec<LoopJoint>,
     pub(crate) loop_rows: usize,
+    /// The actuators (`crate::actuators`), in control order.
+    pub(crate) actuators: Vec<Actuator>,
     /// First generalised coordinate of each body (for a fixed body: the next body's).
     pub(crate) first_coordinate: Vec<usize>,
     /// Number of generalised coordinates.
@@ -161,6 +165,7 @@ impl ModelBuilder {
                 pairs: Vec::new(),
                 loops: Vec::new(),
                 loop_rows: 0,
+                actuators: Vec::new(),
                 first_coordinate,
                 dof,
                 structure: Structure::empty(),
@@ -237,6 +242,15 @@ impl ModelBuilder {
         model.loop_rows += joint.kind.rows();
         model.loops.push(joint);
         Ok(())
+    }
+
+    /// Adds an actuator (docs/physics.md §7.4), checked against the model: a body with a
+    /// joint, a name of its own, finite gains, a non-zero gear, ordered ranges. Returns its
+    /// index, the index of its control.
+    pub fn add_actuator(&mut self, actuator: Actuator) -> Result<usize, ModelError> {
+        crate::actuators::check_actuator(&actuator, &self.model)?;
+        self.model.actuators.push(actuator);
+        Ok(self.model.actuators.len() - 1)
     }
 
     /// The model, with its constants (docs/physics.md §7: the Jacobian's sparsity and

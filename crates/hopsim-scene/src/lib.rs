@@ -2,7 +2,7 @@
 //!
 //! A scene file describes a robot and its world: `[meta]`, `[simulation]`,
 //! `[environment]`, `[[bodies]]`, `[[shapes]]`, `[[springs]]`, `[body_contacts]`,
-//! `[[contact_pairs]]`, `[[loops]]`, `[controller]` and `[initial]`. A MuJoCo model (MJCF, `.xml`) is
+//! `[[contact_pairs]]`, `[[loops]]`, `[controller]`, `[[actuators]]` and `[initial]`. A MuJoCo model (MJCF, `.xml`) is
 //! imported into the equivalent scene ([`import_mjcf`], docs/mjcf.md). [`load`] reads, overrides (`--set key=value`) and validates it into a
 //! [`Scene`]: a [`hopsim_model::Model`], an initial [`hopsim_step::State`], a
 //! [`hopsim_control::ControllerConfig`] and the run [`Settings`]. Every error says where
@@ -10,6 +10,7 @@
 //! expected; unknown keys get a "did you mean". [`axis_label`] names a numeric key in words
 //! with its unit, for figures.
 
+mod actuators;
 mod bodies;
 mod body_contacts;
 mod controller;
@@ -26,6 +27,7 @@ mod start;
 mod tree;
 mod warnings;
 
+pub use actuators::{MAX_ACTUATORS, MAX_CONTROL_FILE_BYTES};
 pub use bodies::{MAX_BODIES, MAX_SHAPES, MAX_SPRINGS};
 pub use error::{Location, SceneError};
 pub use hopsim_sim::{check_start, check_state, StartProblem, StateProblem, PENETRATION_TOL};

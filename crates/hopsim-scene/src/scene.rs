@@ -1,5 +1,6 @@
 //! The validated scene and how it is built from the file (`docs/scene-format.md`).
 
+use crate::actuators::read_actuators;
 use crate::bodies::{read_bodies, read_shapes, read_springs, Names, ShapeSpec, MAX_SHAPES};
 use crate::body_contacts::read_body_contacts;
 use crate::controller::read_controller;
@@ -127,6 +128,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
         "contact_pairs",
         "loops",
         "controller",
+        "actuators",
         "initial",
     ])?;
     let stem = path
@@ -152,6 +154,10 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     let springs = read_springs(&spring_tables, &body_names)?;
     let control = top.table_or_empty("controller")?;
     let controller = read_controller(&control, &bodies, &body_names, &shapes, &shape_names)?;
+    let actuator_tables = top.tables("actuators")?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let (actuators, control_signals) =
+        read_actuators(&actuator_tables, &bodies, &body_names, base)?;
 
     let instances = shapes.iter().map(|s| s.instance.clone()).collect();
     let gravity = Vec2::new(settings.gravity_x, -settings.gravity);
@@ -198,6 +204,11 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
     }
     read_body_contacts(&top, &shapes, &shape_names, &mut builder)?;
     read_loops(&top.tables("loops")?, &body_names, &mut builder)?;
+    for (actuator, table) in actuators.into_iter().zip(&actuator_tables) {
+        builder
+            .add_actuator(actuator)
+            .map_err(|e| table.error_here(e.to_string()))?;
+    }
     let model = builder.build();
     let switchable: Vec<usize> = (0..shapes.len())
         .filter(|&s| shapes[s].switchable)
@@ -218,6 +229,7 @@ pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene, S
             initial,
             controller,
             switchable,
+            control_signals,
             coordinates,
         },
         overrides: overrides.to_vec(),

@@ -66,6 +66,27 @@ const KEYS: &[(&str, KeyInfo)] = &[
         info("moment of inertia", "kg m²", "kg m²"),
     ),
     ("shapes.*.radius", info("radius", "m", "m")),
+    ("actuators.*.gear", info("actuator gear", "", "")),
+    (
+        "actuators.*.kp",
+        info("servo stiffness k_p", "N m/rad or N/m", ""),
+    ),
+    (
+        "actuators.*.kv",
+        info("servo damping k_v", "N m s/rad or N s/m", ""),
+    ),
+    (
+        "actuators.*.control.value",
+        info("actuator control", "", ""),
+    ),
+    (
+        "actuators.*.control.amplitude",
+        info("control amplitude", "", ""),
+    ),
+    (
+        "actuators.*.control.frequency",
+        info("control frequency", "Hz", "Hz"),
+    ),
     ("shapes.*.semi_x", info("semi-axis along x", "m", "m")),
     ("shapes.*.semi_y", info("semi-axis along y", "m", "m")),
     ("shapes.*.friction", info("friction coefficient μ", "", "")),
@@ -135,6 +156,7 @@ fn table_name(key: &str) -> Option<String> {
         "bodies" => "body",
         "shapes" => "shape",
         "springs" => "spring",
+        "actuators" => "actuator",
         _ => return None,
     };
     Some(match name.parse::<usize>() {

@@ -1,6 +1,6 @@
 //! Warnings about a valid scene whose results a physicist should not trust as they are:
-//! springs, dampers and impacts beyond the accurate range of the step `Δt`, and materials
-//! whose impacts can add energy (docs/physics.md §4.7, §4.9). Each names the key and the
+//! springs, dampers (servos among them) and impacts beyond the accurate range of the step
+//! `Δt`, and materials whose impacts can add energy (docs/physics.md §4.7, §4.9). Each names the key and the
 //! setting that avoids it; `hopsim scene check` lists them and `hopsim run` prints them once.
 
 use crate::Scene;
@@ -41,6 +41,22 @@ pub fn warnings(scene: &Scene) -> Vec<String> {
         let g = mobility.along(&row);
         let key = |what: &str| format!("bodies.{}.{what}", body.name);
         spring_and_damper(&mut out, dt, g, joint.stiffness, joint.damping, key);
+    }
+    // A servo is a spring `gear² k_p` and a damper `gear² k_v` in its joint (§7.4).
+    for a in model.actuators() {
+        let [_, b1, b2] = a.bias();
+        if b1 == 0.0 && b2 == 0.0 {
+            continue;
+        }
+        row.fill(0.0);
+        model.add_joint_force_to(&ws, a.body, 1.0, &mut row);
+        let g = mobility.along(&row);
+        let square = a.gear * a.gear;
+        let key = |what: &str| {
+            let gain = if what == "stiffness" { "kp" } else { "kv" };
+            format!("actuators.{}.{gain}", a.name)
+        };
+        spring_and_damper(&mut out, dt, g, -b1 * square, -b2 * square, key);
     }
     for (s, spring) in model.springs().iter().enumerate() {
         let mut row = vec![0.0; n];

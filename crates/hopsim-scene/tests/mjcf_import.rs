@@ -215,7 +215,14 @@ fn what_cannot_be_imported_is_said() {
     assert!(said(
         "joint `j`: its dry friction (frictionloss 0.2) is not modelled"
     ));
-    assert!(said("actuator `servo` on joint `j` is not modelled"));
+    // The servo is the scene's actuator, on the body of its joint.
+    let servo = &scene.model.actuators()[0];
+    assert_eq!((servo.name.as_str(), servo.body), ("servo", 1));
+    assert_eq!(
+        servo.kind,
+        hopsim_model::ActuatorKind::Position { kp: 10.0, kv: 0.0 }
+    );
+    assert!(!said("actuator"));
     assert!(said("qpos0 = 0.0 lies beyond its range"));
     // It starts on its lower stop.
     assert_eq!(scene.initial.q[0], 10f64.to_radians());

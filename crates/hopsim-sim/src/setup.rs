@@ -3,7 +3,7 @@
 //! is one way to write it (hopsim-scene's `Scene` is a `Setup` with its file's details);
 //! code is another (docs/architecture.md, "Where things plug in").
 
-use hopsim_control::ControllerConfig;
+use hopsim_control::{ControlSignal, ControllerConfig};
 use hopsim_io::number;
 use hopsim_model::Model;
 use hopsim_step::{State, StepSettings};
@@ -143,6 +143,10 @@ pub struct Setup {
     pub controller: ControllerConfig,
     /// Shapes the controller switches (canes); they start switched off.
     pub switchable: Vec<usize>,
+    /// Open-loop control signals `(actuator, signal)`: before every step that the scene's
+    /// controller takes, the actuator's control is the signal at the step's midpoint time
+    /// (docs/physics.md §7.4).
+    pub control_signals: Vec<(usize, ControlSignal)>,
     /// Names of the generalised coordinates, e.g. `["x", "y", "phi", "psi"]`.
     pub coordinates: Vec<String>,
 }

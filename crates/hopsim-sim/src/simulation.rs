@@ -5,7 +5,10 @@ use crate::{
 };
 use hopsim_control::{ControlEvent, ControlInput, Controller};
 use hopsim_record::{recorded_time, Event, EventKind};
-use hopsim_step::{Actuation, ContactState, ImpulseCommand, State, StepRecord, Stepper};
+use hopsim_step::{
+    check_controls, Actuation, ActuationError, ContactState, ImpulseCommand, State, StepRecord,
+    Stepper,
+};
 use std::sync::Arc;
 
 /// A [`Setup`] being simulated: the stepper, the controller and the state.
@@ -86,12 +89,16 @@ impl Simulation {
         let contacts = model.contacts().len();
         let contact_count = model.contact_count();
         let flight = FlightTracker::starting(stepper.record().min_gap);
+        let controls = vec![0.0; model.actuators().len()];
         Self {
             setup: scene,
             controller,
             stepper,
             state,
-            actuation: Actuation::default(),
+            actuation: Actuation {
+                controls,
+                ..Actuation::default()
+            },
             control_events: Vec::new(),
             events: Vec::new(),
             shapes_active,
@@ -216,10 +223,66 @@ impl Simulation {
         }
     }
 
+    /// The controls of the model's actuators (docs/physics.md §7.4), one each: held from
+    /// step to step, set by [`Simulation::set_controls`], [`Simulation::step_with`] or the
+    /// setup's control signals. All 0 at the start.
+    pub fn controls(&self) -> &[f64] {
+        &self.actuation.controls
+    }
+
+    /// Sets every actuator's control (one finite number each) for the steps to come.
+    pub fn set_controls(&mut self, controls: &[f64]) -> Result<(), ActuationError> {
+        let count = self.actuation.controls.len();
+        if controls.len() != count {
+            return Err(ActuationError::ControlCount {
+                given: controls.len(),
+                actuators: count,
+            });
+        }
+        check_controls(&self.setup.model, controls)?;
+        self.actuation.controls.copy_from_slice(controls);
+        Ok(())
+    }
+
+    /// Sets actuator `actuator`'s control (a finite number) for the steps to come.
+    pub fn set_control(&mut self, actuator: usize, value: f64) -> Result<(), ActuationError> {
+        let actuators = self.actuation.controls.len();
+        if actuator >= actuators {
+            return Err(ActuationError::NoSuchActuator {
+                actuator,
+                actuators,
+            });
+        }
+        if !value.is_finite() {
+            return Err(ActuationError::ControlNotFinite {
+                index: actuator,
+                name: self.setup.model.actuators()[actuator].name.clone(),
+                value,
+            });
+        }
+        self.actuation.controls[actuator] = value;
+        Ok(())
+    }
+
+    /// Writes the actuators' generalised forces at the current state under the current
+    /// controls into `out` (length `n`; MuJoCo's `qfrc_actuator`, docs/physics.md §7.4).
+    pub fn actuator_forces_to(&self, out: &mut [f64]) {
+        out.fill(0.0);
+        self.setup.model.add_actuator_forces_to(
+            self.stepper.kinematics(),
+            &self.actuation.controls,
+            out,
+        );
+    }
+
     /// The scene's controller, then the step.
     fn control_and_advance(&mut self, observer: &mut dyn Observer) -> Result<(), RunError> {
         let model = &self.setup.model;
         self.actuation.clear();
+        let t_mid = self.state.t + 0.5 * self.setup.settings.dt;
+        for (a, signal) in &self.setup.control_signals {
+            self.actuation.controls[*a] = signal.value(t_mid);
+        }
         self.control_events.clear();
         self.events.clear();
         let input = ControlInput {
@@ -238,7 +301,9 @@ impl Simulation {
     /// Takes one step with `actuation` and `events` (brakes, shape switches) given by the
     /// caller in place of the scene's controller, which is not called in this step (its
     /// own state does not advance). A brake event names the lock of `actuation.locks` it
-    /// engages, as the controllers' do. Commands the model cannot carry out (see
+    /// engages, as the controllers' do. The actuators' controls given in `actuation`
+    /// replace the first of the held ones and are held afterwards (empty: the held
+    /// controls act; the setup's control signals do not). Commands the model cannot carry out (see
     /// [`hopsim_step::ActuationError`]) are refused before the step: [`RunError::Actuation`].
     /// Reuses the simulation's buffers: no allocation once they have grown to the
     /// commands' sizes.
@@ -260,12 +325,15 @@ impl Simulation {
             joint_forces,
             impulses,
             locks,
+            controls,
         } = actuation;
         let own = &mut self.actuation;
         own.torques.clone_from(torques);
         own.joint_forces.clone_from(joint_forces);
         own.impulses.clone_from(impulses);
         own.locks.clone_from(locks);
+        // Given controls replace the held ones (the rest keep theirs); none given: all kept.
+        own.controls[..controls.len()].copy_from_slice(controls);
         self.control_events.clear();
         self.control_events.extend_from_slice(events);
         self.events.clear();

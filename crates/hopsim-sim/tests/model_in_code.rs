@@ -53,6 +53,7 @@ fn robbit_in_code() -> Setup {
         initial: State::at_rest(DVector::from_vec(vec![0.0, 0.1, 0.0, 0.0])),
         controller,
         switchable: Vec::new(),
+        control_signals: Vec::new(),
         coordinates: ["x", "y", "phi", "psi"].map(String::from).to_vec(),
     }
 }

@@ -5,7 +5,8 @@ Reads a JSON request on stdin and prints a JSON answer:
   packages, as {"models": [paths], "missing": [packages], "mujoco": version};
 - {"models": [{"path", "states": [[q, u], ...], "drop": {"q", "duration"} or null}]}: for
   each model and state, MuJoCo's mass matrix (`mj_fullM`) and `qfrc_passive − qfrc_bias`
-  after `mj_forward`; for a drop, MuJoCo's own run from `q` at rest for `duration` seconds:
+  after `mj_forward`; a state `[q, u, ctrl]` also gets the actuators' `qfrc_actuator`
+  under the controls `ctrl`; for a drop, MuJoCo's own run from `q` at rest for `duration` seconds:
   the final `qpos`, the deepest contact (`contact.dist`) and the total normal force.
 - {"free": [{"path", "q", "u", "duration", "dt"}]}: MuJoCo's RK4 at `dt` from `(q, u)` with
   contacts, joint limits and joint friction disabled (a free motion): the final `qpos`,
@@ -40,10 +41,11 @@ def dynamics(mujoco, np, request):
     m = mujoco.MjModel.from_xml_path(request["path"])
     d = mujoco.MjData(m)
     out = {"states": []}
-    for q, u in request["states"]:
+    for state in request["states"]:
+        q, u = state[0], state[1]
         d.qpos[:] = q
         d.qvel[:] = u
-        d.ctrl[:] = 0.0
+        d.ctrl[:] = state[2] if len(state) > 2 else 0.0
         mujoco.mj_forward(m, d)
         full = np.zeros((m.nv, m.nv))
         if hasattr(d, "qM"):
@@ -53,6 +55,7 @@ def dynamics(mujoco, np, request):
         out["states"].append({
             "mass_matrix": full.tolist(),
             "forces": (d.qfrc_passive - d.qfrc_bias).tolist(),
+            "actuator_forces": d.qfrc_actuator.tolist(),
         })
     drop = request.get("drop")
     if drop:

@@ -420,3 +420,88 @@ fn free_motions_match_mujocos_rk4_to_first_order() {
         );
     }
 }
+
+/// hopsim's actuator forces at `(q, u)` under `controls` (docs/physics.md §7.4).
+fn actuator_forces(scene: &Scene, q: &[f64], u: &[f64], controls: &[f64]) -> Vec<f64> {
+    let model = &scene.model;
+    let mut kinematics = Kinematics::new(model);
+    kinematics.update_slices(model, q, u);
+    let mut out = vec![0.0; model.dof()];
+    model.add_actuator_forces_to(&kinematics, controls, &mut out);
+    out
+}
+
+/// The imported actuators (motors, position and velocity servos with their gears, control
+/// and force ranges) of the shipped models and of `tests/models/servos.xml` (every form the
+/// import maps; the shipped planar models have motors only) give MuJoCo's `qfrc_actuator`
+/// at 100 random states under random controls, a third of them outside the control range,
+/// to 1e-10 relative.
+#[test]
+fn imported_actuators_have_mujocos_forces() {
+    let listing = match oracle(&json!({"list": true})) {
+        Ok(listing) => listing,
+        Err(why) => return unavailable(&why),
+    };
+    let mut draw = Draw(0x2545_F491_4F6C_DD1D);
+    let mut requests = Vec::new();
+    let mut cases = Vec::new();
+    let servos = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models/servos.xml");
+    let shipped = listing["models"].as_array().unwrap().iter();
+    for path in shipped
+        .map(|p| p.as_str().unwrap())
+        .chain([servos.to_str().unwrap()])
+    {
+        let scene = hopsim_scene::load(Path::new(path), &[]).unwrap_or_else(|e| panic!("{e}"));
+        let actuators = scene.model.actuators();
+        if actuators.is_empty() {
+            continue;
+        }
+        let n = scene.model.dof();
+        let q0 = scene.initial.q.as_slice().to_vec();
+        let states: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..STATES)
+            .map(|_| {
+                let q = q0.iter().map(|x| x + draw.next()).collect();
+                let u = (0..n).map(|_| 3.0 * draw.next()).collect();
+                let controls = actuators
+                    .iter()
+                    .map(|a| match a.ctrl_range {
+                        Some([lo, hi]) => 0.5 * (lo + hi) + 0.75 * (hi - lo) * draw.next(),
+                        None => 2.0 * draw.next(),
+                    })
+                    .collect();
+                (q, u, controls)
+            })
+            .collect();
+        requests.push(json!({"path": path, "states": states, "drop": null}));
+        cases.push((path.to_string(), scene, states));
+    }
+    let answer = match oracle(&json!({ "models": requests })) {
+        Ok(answer) => answer,
+        Err(why) => return unavailable(&why),
+    };
+    let mut worst = 0.0f64;
+    let mut kinds = std::collections::BTreeSet::new();
+    for ((path, scene, states), theirs) in cases.iter().zip(answer["models"].as_array().unwrap()) {
+        for a in scene.model.actuators() {
+            kinds.insert(a.kind.name());
+        }
+        for ((q, u, controls), theirs) in states.iter().zip(theirs["states"].as_array().unwrap()) {
+            let mine = actuator_forces(scene, q, u, controls);
+            let expected = numbers(&theirs["actuator_forces"]);
+            let d = relative(&mine, &expected);
+            assert!(
+                d < RELATIVE,
+                "{path}: actuator forces differ by {d:e} at q = {q:?}, u = {u:?}, ctrl = \
+                 {controls:?}:\n{mine:?}\nMuJoCo: {expected:?}"
+            );
+            worst = worst.max(d);
+        }
+    }
+    assert!(!cases.is_empty(), "no model with actuators");
+    eprintln!(
+        "checked the actuators of {} models ({kinds:?}) at {STATES} states each against MuJoCo \
+         {}: largest relative difference {worst:.1e}",
+        cases.len(),
+        listing["mujoco"]
+    );
+}

@@ -1,4 +1,5 @@
-//! What a controller asks of one step: torques, impulses and velocity locks.
+//! What a controller asks of one step: torques, impulses and velocity locks; and the
+//! controls of the model's actuators, which hold from step to step.
 
 use hopsim_model::{Model, Vec2};
 
@@ -56,10 +57,14 @@ pub struct Actuation {
     /// Bodies whose relative rotation is locked inelastically in this step (a brake):
     /// `(body, other)` enforces `θ̇_body = θ̇_other` at the end of the step.
     pub locks: Vec<(usize, usize)>,
+    /// The control of each of the model's actuators (`Model::actuators`, docs/physics.md
+    /// §7.4), held over the step; an actuator past the end gets control 0 (an empty vector:
+    /// every control 0). Not a command: [`Actuation::clear`] keeps it.
+    pub controls: Vec<f64>,
 }
 
 impl Actuation {
-    /// Removes every command, keeping the buffers.
+    /// Removes every command, keeping the buffers and the controls.
     pub fn clear(&mut self) {
         self.torques.clear();
         self.joint_forces.clear();
@@ -86,6 +91,16 @@ pub enum ActuationError {
     },
     #[error("joint_force names body {0}, which has no joint")]
     NoJoint(usize),
+    #[error("actuator {actuator} does not exist; the model has {actuators} actuators")]
+    NoSuchActuator { actuator: usize, actuators: usize },
+    #[error("{given} controls given; the model has {actuators} actuators")]
+    ControlCount { given: usize, actuators: usize },
+    #[error("control {index} (actuator '{name}') is {value}: not a finite number")]
+    ControlNotFinite {
+        index: usize,
+        name: String,
+        value: f64,
+    },
     #[error("a lock needs two bodies; both are {0}")]
     SameBody(usize),
     #[error("{command} on body {body} is {value}: not a finite number")]
@@ -139,7 +154,26 @@ impl Actuation {
         for &(b, other) in &self.locks {
             check_lock(model, "lock", b, other)?;
         }
-        Ok(())
+        check_controls(model, &self.controls)
+    }
+}
+
+/// `controls` are at most one finite number per actuator of `model`.
+pub fn check_controls(model: &Model, controls: &[f64]) -> Result<(), ActuationError> {
+    let actuators = model.actuators();
+    if controls.len() > actuators.len() {
+        return Err(ActuationError::ControlCount {
+            given: controls.len(),
+            actuators: actuators.len(),
+        });
+    }
+    match controls.iter().position(|c| !c.is_finite()) {
+        Some(index) => Err(ActuationError::ControlNotFinite {
+            index,
+            name: actuators[index].name.clone(),
+            value: controls[index],
+        }),
+        None => Ok(()),
     }
 }
 

@@ -13,7 +13,8 @@ mod state;
 mod stepper;
 
 pub use actuation::{
-    check_lock, Actuation, ActuationError, ImpulseCommand, JointForceCommand, TorqueCommand,
+    check_controls, check_lock, Actuation, ActuationError, ImpulseCommand, JointForceCommand,
+    TorqueCommand,
 };
 pub use record::{
     ContactRecord, ContactState, EnergyLedger, LcpStats, LimitRecord, LockRecord, Resolution,

@@ -10,6 +10,7 @@ use hopsim_lcp::{LcpStatus, LemkeOptions, LemkeSolver, SolveMethod, WarmStart};
 use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
+mod actuators;
 mod layout;
 mod loops;
 mod pairs;
@@ -234,7 +235,7 @@ impl Stepper {
         let vector = |len: usize| vec![0.0; len];
         let mut lcp = LemkeSolver::new(settings.lcp.clone());
         let kinematics = Kinematics::new(model);
-        let dampers = model.damper_capacity();
+        let dampers = model.damper_capacity() + model.actuator_damper_capacity();
         // `M + Δt/2 C` is diagonal only without dampers.
         let diagonal = model.mass_matrix_is_diagonal() && dampers == 0;
         // The largest problem: every contact and every stop closed.
@@ -441,7 +442,8 @@ impl Stepper {
     ///
     /// 1. `midpoint`: `q^M = q^A + Δt/2 u^A` (§4.1 step 1).
     /// 2. `dynamics`: kinematics at `(q^M, u^A)`, `M(q^M)` factored as `L D Lᵀ`,
-    ///    `h(q^M, u^A)` with the motor torques (§4.1 step 2).
+    ///    `h(q^M, u^A)` with the motor torques and the actuators' forces (§4.1 step 2,
+    ///    §7.4).
     /// 3. `impulses_and_locks`: the applied impulses (§3) and the velocity locks
     ///    `Bᵀ u^E = 0` (§4.4).
     /// 4. `index_set`: the closed contacts `H` with their `W_N`, `W_T` and `γ^A` at `q^M`
@@ -533,7 +535,8 @@ impl Stepper {
 
     /// Stage 2, docs/physics.md §4.1 step 2: the kinematics at `(q^M, u^A)`, `M(q^M)` and its
     /// `L D Lᵀ` factor (built once when `M` does not depend on `q`), `h(q^M, u^A)` split into
-    /// the damping forces and the rest, with the motor torques as the applied forces.
+    /// the damping forces and the rest, with the motor torques and the actuators' forces
+    /// (§7.4) as the applied forces.
     #[inline]
     fn dynamics<const N: usize>(
         &mut self,
@@ -548,14 +551,6 @@ impl Stepper {
             self.damper_count =
                 model.damper_rows_to(&self.kinematics, &mut self.damper_c, &mut self.damper_rows);
         }
-        if !self.mass_fixed {
-            model.mass_matrix_to(&self.kinematics, &mut self.mass);
-            self.add_damping_to_mass::<N>();
-            if !self.factor.factor(&self.mass, self.n) {
-                return Err(StepError::SingularMassMatrix { step, t });
-            }
-            self.mass_fixed = model.jacobian_is_constant() && model.damping_rows_follow_jacobian();
-        }
         let applied = &mut self.applied[..dof::<N>(self.n)];
         applied.fill(0.0);
         for torque in &actuation.torques {
@@ -565,6 +560,21 @@ impl Stepper {
         for force in &actuation.joint_forces {
             model.add_joint_force_to(&self.kinematics, force.body, force.force, applied);
         }
+        let model_dampers = self.damper_count;
+        if !model.actuators().is_empty() {
+            self.damper_count += self.actuator_forces::<N>(model, actuation);
+        }
+        if !self.mass_fixed {
+            model.mass_matrix_to(&self.kinematics, &mut self.mass);
+            self.add_damping_to_mass::<N>();
+            if !self.factor.factor(&self.mass, self.n) {
+                return Err(StepError::SingularMassMatrix { step, t });
+            }
+            // Servo dampers come and go with their force's clamping: `M + Δt/2 C` changes.
+            self.mass_fixed = model.jacobian_is_constant()
+                && model.damping_rows_follow_jacobian()
+                && model.actuator_damper_capacity() == 0;
+        }
         let n = dof::<N>(self.n);
         model.forces_split(
             &self.kinematics,
@@ -572,6 +582,9 @@ impl Stepper {
             &mut self.h[..n],
             &mut self.damping[..n],
         );
+        if self.damper_count > model_dampers {
+            self.explicit_actuator_damping::<N>(model_dampers);
+        }
         Ok(())
     }
 

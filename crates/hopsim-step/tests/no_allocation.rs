@@ -339,3 +339,59 @@ fn a_four_bar_with_its_loop_joint_and_a_brake_does_not_allocate() {
     });
     assert_eq!(count, 0);
 }
+
+/// Robbit with a velocity servo (its force clamped part of the time: its damper comes and
+/// goes) and a position servo on its flywheel, the controls changed every step: no
+/// allocation (docs/physics.md §7.4).
+#[test]
+fn actuators_with_changing_controls_do_not_allocate() {
+    use hopsim_model::{Actuator, ActuatorKind, ModelBuilder};
+    let robbit = common::robbit();
+    let mut builder = ModelBuilder::new(
+        robbit.bodies().to_vec(),
+        robbit.shapes().to_vec(),
+        robbit.terrain().clone(),
+        robbit.springs().to_vec(),
+        robbit.gravity(),
+        common::material(1.0, 0.0),
+    )
+    .unwrap();
+    builder
+        .add_actuator(Actuator {
+            kind: ActuatorKind::Velocity { kv: 0.05 },
+            force_range: Some([-0.2, 0.2]),
+            ..Actuator::motor("spin", 1)
+        })
+        .unwrap();
+    builder
+        .add_actuator(Actuator {
+            kind: ActuatorKind::Position { kp: 0.5, kv: 0.01 },
+            gear: 2.0,
+            ctrl_range: Some([-1.0, 1.0]),
+            ..Actuator::motor("hold", 1)
+        })
+        .unwrap();
+    let model = builder.build();
+    let mut stepper = common::stepper(&model, 2e-4);
+    let mut state = common::state(&[0.0, 0.1, 0.0, 0.0], &[0.0; 4]);
+    stepper.start(&model, &state);
+    let mut act = Actuation {
+        controls: vec![0.0; 2],
+        ..Actuation::default()
+    };
+    let mut clamped = [false, false];
+    let count = allocations(1000, 3000, |k| {
+        let t = k as f64 * 2e-4;
+        act.controls[0] = 40.0 * (3.0 * t).sin();
+        act.controls[1] = 2.0 * (5.0 * t).cos();
+        stepper.step(&model, &mut state, &act).unwrap();
+        let speed = state.u[3] - state.u[2];
+        // Whether the velocity servo's force `k_v (u − ṡ)` is beyond its range.
+        clamped[usize::from((0.05 * (act.controls[0] - speed)).abs() > 0.2)] = true;
+    });
+    assert_eq!(count, 0, "{count} allocations in 3000 steps");
+    assert!(
+        clamped[0] && clamped[1],
+        "the servo's force was clamped in some steps only"
+    );
+}
