@@ -1051,7 +1051,7 @@ mod tests {
         let n = 3;
         let mut work = Work::default();
         work.reserve(n);
-        let mut t = work.parts(n);
+        let t = work.parts(n);
         // Row 0: z_2; row 1: w_0; row 2: z0 (its value belongs to neither).
         t.basis.copy_from_slice(&[n + 2, 0, 2 * n]);
         t.tab[..n].copy_from_slice(&[3.0, 5.0, 7.0]);
