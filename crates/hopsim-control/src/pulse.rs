@@ -240,7 +240,13 @@ mod tests {
         // 1.6 P on, in every period.
         assert_eq!(
             switches(&windowed, 2),
-            [(0, true), (180, false), (1080, true), (1980, false), (2880, true)]
+            [
+                (0, true),
+                (180, false),
+                (1080, true),
+                (1980, false),
+                (2880, true)
+            ]
         );
     }
 
@@ -251,7 +257,13 @@ mod tests {
     fn triggered_cane_matches_its_definition_as_events() {
         let period = 1.0 / 2.8;
         let dt = period / 1800.0;
-        for (delay, duration) in [(0.05, 0.3), (0.2, 0.8), (0.35, 0.9), (0.9, 0.25), (0.0, 0.5)] {
+        for (delay, duration) in [
+            (0.05, 0.3),
+            (0.2, 0.8),
+            (0.35, 0.9),
+            (0.9, 0.25),
+            (0.0, 0.5),
+        ] {
             let p = triggered(delay, duration);
             let mut windows = Vec::new();
             let mut end = f64::NEG_INFINITY;
@@ -265,7 +277,11 @@ mod tests {
             for step in 0..6 * 1800 {
                 let t = step as f64 * dt + 0.5 * dt;
                 let out = windows.iter().any(|&(a, b)| a <= t && t < b);
-                assert_eq!(p.cane_wanted(t), out, "CD {delay}, CDC {duration}, step {step}");
+                assert_eq!(
+                    p.cane_wanted(t),
+                    out,
+                    "CD {delay}, CDC {duration}, step {step}"
+                );
             }
         }
     }

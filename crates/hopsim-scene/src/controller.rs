@@ -169,8 +169,7 @@ pub(crate) fn read_controller(
                 v.ok_or_else(|| c.error_at_key(key, "missing; required when cane_mode = \"timed\""))
             };
             // Read for every mode, so that `--set controller.cane_mode=…` works on any scene.
-            let schedule =
-                c.choice("cane_schedule", &["windowed", "thesis"], Some("windowed"))?;
+            let schedule = c.choice("cane_schedule", &["windowed", "thesis"], Some("windowed"))?;
             let cane = match c.choice(
                 "cane_mode",
                 &["retracted", "extended", "timed"],

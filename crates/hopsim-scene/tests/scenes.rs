@@ -249,7 +249,10 @@ fn release_modes_and_their_timing_keys() {
 fn cane_schedules_of_a_timed_cane() {
     use hopsim_control::CaneMode;
     let cane = |overrides: &[&str]| -> Result<CaneMode, String> {
-        match load("scenes/canebot-timed.toml", overrides)?.setup.controller {
+        match load("scenes/canebot-timed.toml", overrides)?
+            .setup
+            .controller
+        {
             ControllerConfig::Pulse(c) => Ok(c.cane),
             other => panic!("{other:?}"),
         }
