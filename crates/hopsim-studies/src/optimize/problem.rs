@@ -55,7 +55,8 @@ impl std::str::FromStr for Parameter {
 impl Parameter {
     /// Bounds in order (an integer parameter's span holds a whole number).
     pub fn check(&self) -> Result<(), String> {
-        if !(self.lower < self.upper) {
+        // NaN bounds fail too (parsed bounds are finite; a Python caller's may not be).
+        if self.lower.partial_cmp(&self.upper) != Some(std::cmp::Ordering::Less) {
             return Err(format!(
                 "{}: the lower bound {} must be below the upper bound {}",
                 self.key, self.lower, self.upper
@@ -164,7 +165,7 @@ impl Problem {
                 }
             }
         }
-        if !(self.sigma > 0.0 && self.sigma.is_finite()) {
+        if self.sigma.is_nan() || self.sigma <= 0.0 || self.sigma.is_infinite() {
             return Err(format!("sigma {} must be a positive number", self.sigma));
         }
         if self.population.is_some_and(|l| l < 2) {
