@@ -6,30 +6,10 @@ use std::path::Path;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-const PROJECTILE: &str = r#"
-[simulation]
-duration = 0.7
-dt = 2e-5
-gravity = 9.81
-
-[environment]
-friction = 5.0
-restitution = 0.0
-
-[[bodies]]
-name = "ball"
-mass = 1.0
-inertia = 0.01
-
-[[shapes]]
-body = "ball"
-type = "point"
-position = [0.0, 0.0]
-
-[initial]
-q = [0.0, 0.0, 0.0]
-u = [1.0, 1.0, 0.0]
-"#;
+/// The thrown point mass of the optimisation tests (docs/optimize.md), stepped at 2e-5 s.
+fn projectile() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/optimize/projectile.toml")
+}
 
 fn command(scene: &Path, out: &Path, generations: usize) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_hopsim"));
@@ -65,8 +45,7 @@ fn stderr(o: &Output) -> String {
 #[test]
 fn writes_every_evaluation_a_figure_and_a_checkpoint() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("projectile.toml");
-    std::fs::write(&scene, PROJECTILE).unwrap();
+    let scene = projectile();
     let out = dir.path().join("out");
     let o = run(&mut command(&scene, &out, 3));
     assert!(o.status.success(), "{}", stderr(&o));
@@ -112,8 +91,7 @@ fn writes_every_evaluation_a_figure_and_a_checkpoint() {
 #[test]
 fn a_killed_search_resumes_to_the_uninterrupted_result() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("projectile.toml");
-    std::fs::write(&scene, PROJECTILE).unwrap();
+    let scene = projectile();
     let generations = 25;
     let whole = dir.path().join("whole");
     let o = run(&mut command(&scene, &whole, generations));

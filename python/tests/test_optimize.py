@@ -10,37 +10,17 @@ import pytest
 
 import hopsim
 
-PROJECTILE = """
-[simulation]
-duration = 0.7
-dt = 1e-4
-gravity = 9.81
+from conftest import REPO
 
-[environment]
-friction = 5.0
-restitution = 0.0
-
-[[bodies]]
-name = "ball"
-mass = 1.0
-inertia = 0.01
-
-[[shapes]]
-body = "ball"
-type = "point"
-position = [0.0, 0.0]
-
-[initial]
-q = [0.0, 0.0, 0.0]
-u = [1.0, 1.0, 0.0]
-"""
+#: The thrown point mass of the optimisation tests (docs/optimize.md).
+PROJECTILE = REPO / "tests" / "data" / "optimize" / "projectile.toml"
 
 PARAMS = {"initial.u.0": (0.0, 2.5), "initial.u.1": (0.0, 2.5)}
 
 
 @pytest.fixture(scope="module")
 def projectile():
-    return hopsim.Scene.from_toml(PROJECTILE, path="projectile.toml")
+    return hopsim.Scene.load(PROJECTILE, overrides={"simulation.dt": 1e-4})
 
 
 def throw(scene):
@@ -129,11 +109,10 @@ def test_an_interrupted_search_resumes_to_the_uninterrupted_one(projectile, tmp_
 
 
 def test_matches_the_command_line(hopsim_bin, projectile, tmp_path):
-    scene = tmp_path / "projectile.toml"
-    scene.write_text(PROJECTILE)
     out = tmp_path / "cli"
     subprocess.run(
-        [hopsim_bin, "optimize", str(scene), "--maximize", "distance_m", "--quiet"]
+        [hopsim_bin, "optimize", str(PROJECTILE), "--set", "simulation.dt=1e-4"]
+        + ["--maximize", "distance_m", "--quiet"]
         + ["--param", "initial.u.0=0:2.5", "--param", "initial.u.1=0:2.5"]
         + ["--constraint", "energy.dissipated=:2", "--population", "6"]
         + ["--generations", "3", "--seed", "4", "--out", str(out)],

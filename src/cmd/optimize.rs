@@ -3,7 +3,6 @@
 //! (`docs/optimize.md`); the study is `hopsim_studies::optimize`.
 
 use clap::Args;
-use hopsim_scene::Override;
 use hopsim_studies::optimize::{
     read_checkpoint, run, Constraint, Direction, Parameter, Problem, SceneObjective, Search,
     DEFAULT_SIGMA,
@@ -12,9 +11,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use super::analyze::common::OutputArgs;
+use super::exit;
 use super::progress::CountBars;
 use super::render::render;
-use super::{exit, scene::SceneArgs};
+use super::scene::{load_for_runs, output_folder, SceneArgs};
 
 /// Search scene keys within bounds for the run that minimises or maximises a run-summary
 /// field (CMA-ES); write a CSV of every evaluation, a convergence plot and a checkpoint.
@@ -85,14 +85,7 @@ fn fingerprint(text: &str) -> u64 {
 }
 
 pub fn run_command(args: OptimizeArgs) -> anyhow::Result<ExitCode> {
-    let extra: Vec<Override> = args
-        .duration
-        .map(|d| Override::from_flag("--duration", "simulation.duration", format!("{d:?}")))
-        .into_iter()
-        .collect();
-    let scene = args.scene.load(&extra)?;
-    let mut base = args.scene.overrides.clone();
-    base.extend(extra);
+    let (scene, base) = load_for_runs(&args.scene, args.duration)?;
     let (direction, field) = match (&args.minimize, &args.maximize) {
         (Some(f), _) => (Direction::Minimize, f.clone()),
         (None, Some(f)) => (Direction::Maximize, f.clone()),
@@ -126,14 +119,7 @@ pub fn run_command(args: OptimizeArgs) -> anyhow::Result<ExitCode> {
         eprintln!("error: {e}");
         return Ok(ExitCode::from(exit::INVALID_INPUT));
     }
-    let stem = scene
-        .path
-        .file_stem()
-        .map_or("scene".into(), |s| s.to_string_lossy());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-optimize")));
+    let out = output_folder(args.out.as_deref(), &scene, "optimize");
     let checkpoint = out.join("checkpoint.json");
     let mut search = if checkpoint.exists() {
         if !args.resume {

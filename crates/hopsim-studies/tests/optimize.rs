@@ -261,41 +261,16 @@ fn a_checkpoint_of_another_search_is_refused() {
     assert!(e.contains("does not replay"), "{e}");
 }
 
-const PROJECTILE: &str = r#"
-[meta]
-title = "Projectile landing without rebound"
-
-[simulation]
-duration = 0.7
-dt = 1e-5
-gravity = 9.81
-
-[environment]
-friction = 5.0
-restitution = 0.0
-
-[[bodies]]
-name = "ball"
-mass = 1.0
-inertia = 0.01
-
-[[shapes]]
-body = "ball"
-type = "point"
-position = [0.0, 0.0]
-
-[initial]
-q = [0.0, 0.0, 0.0]
-u = [1.0, 1.0, 0.0]
-"#;
-
 /// A point mass launched from the ground with `(v_x, v_y)` lands `2 v_x v_y / g` ahead and
-/// sticks (restitution 0, friction 5 ≥ cot of every launch angle above 11°): its range at
+/// sticks (`tests/data/optimize/projectile.toml`: restitution 0, friction 5 ≥ cot of every
+/// launch angle above 11°): its range at
 /// a kinetic energy of at most `E = 2 J` (the landing dissipates it all) is largest at 45°,
 /// `v_x = v_y = √E`, `R = 2E/(m g)`. The energy bound is a constraint on the run summary.
 #[test]
 fn finds_the_launch_angle_of_the_longest_throw() {
-    let scene: Scene = hopsim_scene::parse(PROJECTILE, Path::new("projectile.toml"), &[]).unwrap();
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/optimize/projectile.toml");
+    let scene: Scene = hopsim_scene::load(&path, &[]).unwrap();
     let (energy, g) = (2.0, 9.81);
     let objective = SceneObjective {
         scene: &scene,
