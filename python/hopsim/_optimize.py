@@ -47,7 +47,9 @@ class OptimizeResult:
         self.generations: int = len(report["generations"])
         self.rejected: int = report["rejected"]
         stop = report["stop"]
-        self.stop: Optional[str] = None if stop is None else json.dumps(stop)
+        if isinstance(stop, dict):  # {"Converged": [criteria]}
+            stop = "; ".join(f"{k}: {', '.join(v)}" for k, v in stop.items())
+        self.stop: Optional[str] = stop
         self.csv = csv
         self.text = text
 
