@@ -22,6 +22,8 @@ enum Command {
     Run(cmd::run::RunArgs),
     /// Run a scene over a parameter grid on all cores; CSV of summaries and a plot.
     Sweep(cmd::sweep::SweepArgs),
+    /// Search scene keys for the best run-summary field (CMA-ES, parallel, resumable).
+    Optimize(cmd::optimize::OptimizeArgs),
     /// Scene files: validate without running.
     Scene(cmd::scene::SceneCommandArgs),
     /// Linear complementarity problems: solve `.dat` files with Lemke's method.
@@ -45,6 +47,7 @@ fn main() -> ExitCode {
     let result = std::panic::catch_unwind(|| match cli.command {
         Command::Run(args) => cmd::run::run(args),
         Command::Sweep(args) => cmd::sweep::run(args),
+        Command::Optimize(args) => cmd::optimize::run_command(args),
         Command::Scene(args) => cmd::scene::run(args),
         Command::Lcp(args) => cmd::lcp::run(args),
         Command::Analyze(args) => cmd::analyze::run(args),

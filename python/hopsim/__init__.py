@@ -17,6 +17,8 @@ wraps the Rust crates of hopsim (it re-implements nothing): the numbers are thos
 * :func:`read_mcap`: a recording written by ``hopsim run --mcap`` as arrays.
 * :func:`sweep`: a scene over a grid of parameters on all local cores, or on a Dask
   cluster in chunks, as the table of ``hopsim sweep``.
+* :func:`optimize`: CMA-ES (the engine of ``hopsim optimize``) over parameters within
+  bounds with any Python objective, on local threads or a Dask cluster, resumable.
 
 Every exception hopsim raises derives from :class:`HopsimError` (an ``Exception``):
 :class:`SceneError` (also a ``ValueError``), :class:`SimulationError` (also a
@@ -47,6 +49,7 @@ from ._hopsim import (
     SimulationError,
 )
 from ._model import Model
+from ._optimize import OptimizeResult, optimize
 from ._sweep import SweepTable, sweep
 from ._trajectory import Recording, Trajectory
 
@@ -57,6 +60,7 @@ __all__ = [
     "HopsimError",
     "InternalError",
     "Model",
+    "OptimizeResult",
     "Recording",
     "Scene",
     "SceneError",
@@ -65,6 +69,7 @@ __all__ = [
     "SweepTable",
     "Trajectory",
     "lcp",
+    "optimize",
     "read_mcap",
     "sweep",
 ]

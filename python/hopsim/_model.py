@@ -168,6 +168,7 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("cane_mode", STRING, '"retracted" (default), "extended" or "timed"'),
         ("cane_delay", NUMBER, "timed: fraction of the period"),
         ("cane_duration", NUMBER, "timed: fraction of the period"),
+        ("cane_schedule", STRING, 'timed: "windowed" (default) or "thesis" (the trigger)'),
     )),
     _Section("actuators", "actuator", True, (
         ("name", STRING, "unique (default actuator<i>); its control's name"),

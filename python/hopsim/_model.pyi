@@ -170,6 +170,7 @@ class Model:
         cane_mode: Optional[str] = ...,
         cane_delay: Optional[float] = ...,
         cane_duration: Optional[float] = ...,
+        cane_schedule: Optional[str] = ...,
     ) -> "Model": ...
     def initial(
         self,

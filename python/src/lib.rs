@@ -6,6 +6,7 @@
 mod errors;
 mod lcp;
 mod mcap;
+mod optimize;
 mod scene;
 mod signals;
 mod simulation;
@@ -20,6 +21,7 @@ fn _hopsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<simulation::PySimulation>()?;
     m.add_class::<simulation::PyActuation>()?;
+    m.add_class::<optimize::PySearch>()?;
     for class in errors::Class::ALL {
         m.add(class.name(), errors::class(py, class)?)?;
     }

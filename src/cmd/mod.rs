@@ -6,6 +6,7 @@ pub mod exit;
 pub mod import;
 pub mod interrupt;
 pub mod lcp;
+pub mod optimize;
 pub mod progress;
 pub mod render;
 pub mod run;

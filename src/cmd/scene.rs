@@ -3,7 +3,7 @@
 use clap::{Args, Subcommand};
 use hopsim_control::ControllerConfig;
 use hopsim_scene::{Override, Scene};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// A scene file with `--set` overrides.
@@ -25,6 +25,34 @@ impl SceneArgs {
         overrides.extend_from_slice(extra);
         Ok(hopsim_scene::load(&self.scene, &overrides)?)
     }
+}
+
+/// The scene of a study whose runs all take `--duration` (if given), and the overrides
+/// every run gets: the `--set`s, then the duration's.
+pub fn load_for_runs(
+    scene: &SceneArgs,
+    duration: Option<f64>,
+) -> anyhow::Result<(Scene, Vec<Override>)> {
+    let timing = TimingArgs { duration, dt: None };
+    let extra = timing.overrides();
+    let loaded = scene.load(&extra)?;
+    let mut base = scene.overrides.clone();
+    base.extend(extra);
+    Ok((loaded, base))
+}
+
+/// `out` if given, else `out/<scene's file stem>-<study>`.
+pub fn output_folder(out: Option<&Path>, scene: &Scene, study: &str) -> PathBuf {
+    out.map_or_else(
+        || {
+            let stem = scene
+                .path
+                .file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy());
+            PathBuf::from("out").join(format!("{stem}-{study}"))
+        },
+        Path::to_path_buf,
+    )
 }
 
 /// `--duration` and `--dt` of a command that runs a scene.

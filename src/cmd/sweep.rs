@@ -3,7 +3,6 @@
 //! `hopsim_studies::sweep`.
 
 use clap::Args;
-use hopsim_scene::Override;
 use hopsim_studies::sweep::GridAxis;
 use hopsim_studies::sweep::{
     metric_name, Sweep, SweepBaseline, SweepInputError, SweepParams, DEFAULT_MAX_RUNS,
@@ -12,9 +11,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use super::analyze::common::OutputArgs;
+use super::exit;
 use super::progress::CountBars;
 use super::render::render;
-use super::{exit, scene::SceneArgs};
+use super::scene::{load_for_runs, output_folder, SceneArgs};
 
 /// Run a scene over a grid of parameter values in parallel; write a CSV of the run
 /// summaries and a plot.
@@ -62,15 +62,8 @@ impl From<&SweepArgs> for SweepParams {
 }
 
 pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
-    let extra: Vec<Override> = args
-        .duration
-        .map(|d| Override::from_flag("--duration", "simulation.duration", format!("{d:?}")))
-        .into_iter()
-        .collect();
     // Validate the base scene once, so a broken file fails before hundreds of runs do.
-    let scene = args.scene.load(&extra)?;
-    let mut base = args.scene.overrides.clone();
-    base.extend(extra);
+    let (scene, base) = load_for_runs(&args.scene, args.duration)?;
     let sweep = match Sweep::new(&scene, &base, SweepParams::from(&args)) {
         Ok(sweep) => sweep,
         Err(err) => {
@@ -88,14 +81,7 @@ pub fn run(args: SweepArgs) -> anyhow::Result<ExitCode> {
         unit: "runs",
         quiet: args.quiet,
     });
-    let stem = scene
-        .path
-        .file_stem()
-        .map_or("scene".into(), |s| s.to_string_lossy());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-sweep")));
+    let out = output_folder(args.out.as_deref(), &scene, "sweep");
     let csv = out.join("sweep.csv");
     let output = OutputArgs {
         json: false,

@@ -64,6 +64,28 @@ pub enum CaneMode {
         /// `CDC`, fraction of the period.
         duration: f64,
     },
+    /// The thesis' schedule: a trigger at the start `kP` of every motor period extends the
+    /// cane at `kP + delay · P` for `duration · P`, unless the cane is still out at `kP`
+    /// (then that period's trigger is lost). With `delay + duration < 1` this is `Timed`;
+    /// with `delay + duration ≥ 1` the cane is operated every second period.
+    Triggered {
+        /// `CD`, fraction of the period.
+        delay: f64,
+        /// `CDC`, fraction of the period.
+        duration: f64,
+    },
+}
+
+impl CaneMode {
+    /// `(CD, CDC)` of a timed or triggered schedule.
+    pub fn timing(&self) -> Option<(f64, f64)> {
+        match *self {
+            CaneMode::Timed { delay, duration } | CaneMode::Triggered { delay, duration } => {
+                Some((delay, duration))
+            }
+            CaneMode::Retracted | CaneMode::Extended => None,
+        }
+    }
 }
 
 impl std::fmt::Display for CaneMode {
@@ -74,6 +96,10 @@ impl std::fmt::Display for CaneMode {
             CaneMode::Timed { delay, duration } => {
                 write!(f, "extended from CD = {delay} P for CDC = {duration} P")
             }
+            CaneMode::Triggered { delay, duration } => write!(
+                f,
+                "triggered at CD = {delay} P for CDC = {duration} P unless still out (thesis)"
+            ),
         }
     }
 }

@@ -43,8 +43,23 @@ impl Pulse {
                 let fraction = (t / self.config.period).rem_euclid(1.0);
                 (fraction - delay).rem_euclid(1.0) < duration
             }
+            CaneMode::Triggered { delay, duration } => {
+                let n = triggered_cycle(delay, duration);
+                let periods = (t / self.config.period).rem_euclid(n);
+                (periods - delay).rem_euclid(n) < duration
+            }
         }
     }
+}
+
+/// The number of motor periods between two operations of the thesis' triggered cane
+/// (`CaneMode::Triggered`): the operation of period `j` lasts until `(j + CD + CDC) P`, so
+/// the triggers at `kP` with `k − j ≤ CD + CDC` find the cane still out and are lost, and
+/// the next operation is in period `j + ⌊CD + CDC⌋ + 1` (docs/physics.md §5.4). A sum within
+/// `1e-12` of an integer counts as reaching it, so that `0.7 + 0.3` is 1 whatever its
+/// rounding. The periods start at `t = 0`, the first operation in period 0.
+fn triggered_cycle(delay: f64, duration: f64) -> f64 {
+    (delay + duration + 1e-12).floor() + 1.0
 }
 
 impl Controller for Pulse {
@@ -160,6 +175,114 @@ mod tests {
                 wanted,
                 "at {fraction}"
             );
+        }
+    }
+
+    /// The steps (`Δt = P/1800`, read at midpoints) at which the schedule extends (`true`)
+    /// or retracts (`false`) the cane in the first `periods` periods.
+    fn switches(p: &Pulse, periods: usize) -> Vec<(usize, bool)> {
+        let period = 1.0 / 2.8;
+        let dt = period / 1800.0;
+        let mut out = Vec::new();
+        let mut last = false;
+        for step in 0..periods * 1800 {
+            let wanted = p.cane_wanted(step as f64 * dt + 0.5 * dt);
+            if wanted != last {
+                out.push((step, wanted));
+                last = wanted;
+            }
+        }
+        out
+    }
+
+    fn triggered(delay: f64, duration: f64) -> Pulse {
+        pulse(CaneMode::Triggered { delay, duration })
+    }
+
+    /// `CD + CDC < 1`: every period's trigger finds the cane in, so the cane is out from
+    /// `(k + CD) P` to `(k + CD + CDC) P` in every period, as the windowed schedule.
+    #[test]
+    fn triggered_cane_short_operates_every_period() {
+        let p = triggered(0.1, 0.5);
+        let expected: Vec<_> = (0..4)
+            .flat_map(|k| [(k * 1800 + 180, true), (k * 1800 + 1080, false)])
+            .collect();
+        assert_eq!(switches(&p, 4), expected);
+        let windowed = pulse(CaneMode::Timed {
+            delay: 0.1,
+            duration: 0.5,
+        });
+        assert_eq!(switches(&windowed, 4), expected);
+    }
+
+    /// `CD + CDC ≥ 1`: the operation of period `k` is still out at `(k + 1) P`, so that
+    /// period's trigger is lost and the cane operates in periods 0, 2, 4, …; at `CD + CDC = 1`
+    /// the cane retracts at the very instant of the next trigger, which is lost too. The
+    /// windowed schedule (wrapping) differs: it is out in every period, from `t = 0` on.
+    #[test]
+    fn triggered_cane_long_operates_every_second_period() {
+        let every_second = |start: usize, end: usize| -> Vec<(usize, bool)> {
+            (0..3)
+                .flat_map(|k| [(k * 3600 + start, true), (k * 3600 + end, false)])
+                .collect()
+        };
+        // CD = 0.6, CDC = 0.5: out over [0.6 P, 1.1 P), [2.6 P, 3.1 P), [4.6 P, 5.1 P).
+        assert_eq!(switches(&triggered(0.6, 0.5), 6), every_second(1080, 1980));
+        // CD = 0.5, CDC = 0.5: out over [0.5 P, P), [2.5 P, 3 P), …
+        assert_eq!(switches(&triggered(0.5, 0.5), 6), every_second(900, 1800));
+        // CD = 0, CDC = 1: out over [0, P), [2 P, 3 P), … (the windowed one: always out).
+        assert_eq!(switches(&triggered(0.0, 1.0), 6), every_second(0, 1800));
+        let windowed = pulse(CaneMode::Timed {
+            delay: 0.6,
+            duration: 0.5,
+        });
+        // The windows wrap: out from the start to 0.1 P, then over [0.6 P, 1.1 P) and from
+        // 1.6 P on, in every period.
+        assert_eq!(
+            switches(&windowed, 2),
+            [
+                (0, true),
+                (180, false),
+                (1080, true),
+                (1980, false),
+                (2880, true)
+            ]
+        );
+    }
+
+    /// The triggered schedule against its definition played as events, period by period:
+    /// a trigger at `kP` is lost while the last operation's end is `≥ kP`, else the cane
+    /// is out over `[(k + CD) P, (k + CD + CDC) P)`; compared at every step midpoint.
+    #[test]
+    fn triggered_cane_matches_its_definition_as_events() {
+        let period = 1.0 / 2.8;
+        let dt = period / 1800.0;
+        for (delay, duration) in [
+            (0.05, 0.3),
+            (0.2, 0.8),
+            (0.35, 0.9),
+            (0.9, 0.25),
+            (0.0, 0.5),
+        ] {
+            let p = triggered(delay, duration);
+            let mut windows = Vec::new();
+            let mut end = f64::NEG_INFINITY;
+            for k in 0..8 {
+                let start = (k as f64 + delay) * period;
+                if end < k as f64 * period {
+                    end = start + duration * period;
+                    windows.push((start, end));
+                }
+            }
+            for step in 0..6 * 1800 {
+                let t = step as f64 * dt + 0.5 * dt;
+                let out = windows.iter().any(|&(a, b)| a <= t && t < b);
+                assert_eq!(
+                    p.cane_wanted(t),
+                    out,
+                    "CD {delay}, CDC {duration}, step {step}"
+                );
+            }
         }
     }
 }

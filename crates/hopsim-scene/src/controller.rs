@@ -168,6 +168,8 @@ pub(crate) fn read_controller(
             let timed = |key, v: Option<f64>| {
                 v.ok_or_else(|| c.error_at_key(key, "missing; required when cane_mode = \"timed\""))
             };
+            // Read for every mode, so that `--set controller.cane_mode=…` works on any scene.
+            let schedule = c.choice("cane_schedule", &["windowed", "thesis"], Some("windowed"))?;
             let cane = match c.choice(
                 "cane_mode",
                 &["retracted", "extended", "timed"],
@@ -175,10 +177,16 @@ pub(crate) fn read_controller(
             )? {
                 "retracted" => CaneMode::Retracted,
                 "extended" => CaneMode::Extended,
-                _ => CaneMode::Timed {
-                    delay: timed("cane_delay", delay)?,
-                    duration: timed("cane_duration", duration)?,
-                },
+                _ => {
+                    let (delay, duration) = (
+                        timed("cane_delay", delay)?,
+                        timed("cane_duration", duration)?,
+                    );
+                    match schedule {
+                        "thesis" => CaneMode::Triggered { delay, duration },
+                        _ => CaneMode::Timed { delay, duration },
+                    }
+                }
             };
             if cane != CaneMode::Retracted && cane_shape.is_none() {
                 return Err(c.error_at_key(

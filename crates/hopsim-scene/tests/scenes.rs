@@ -242,6 +242,40 @@ fn release_modes_and_their_timing_keys() {
     assert!(e.contains("did you mean 'off_time'"), "{e}");
 }
 
+/// `cane_schedule` picks the windowed (default) or the thesis' triggered schedule of a
+/// timed cane; the permanent modes ignore it, so a thesis scene's cane can be set
+/// retracted or extended by `--set`.
+#[test]
+fn cane_schedules_of_a_timed_cane() {
+    use hopsim_control::CaneMode;
+    let cane = |overrides: &[&str]| -> Result<CaneMode, String> {
+        match load("scenes/canebot-timed.toml", overrides)?
+            .setup
+            .controller
+        {
+            ControllerConfig::Pulse(c) => Ok(c.cane),
+            other => panic!("{other:?}"),
+        }
+    };
+    let (delay, duration) = (0.1, 0.5);
+    assert_eq!(cane(&[]), Ok(CaneMode::Timed { delay, duration }));
+    assert_eq!(
+        cane(&["controller.cane_schedule=windowed"]),
+        Ok(CaneMode::Timed { delay, duration })
+    );
+    let thesis = "controller.cane_schedule=thesis";
+    assert_eq!(cane(&[thesis]), Ok(CaneMode::Triggered { delay, duration }));
+    for (mode, expected) in [
+        ("retracted", CaneMode::Retracted),
+        ("extended", CaneMode::Extended),
+    ] {
+        let set = format!("controller.cane_mode={mode}");
+        assert_eq!(cane(&[thesis, &set]), Ok(expected));
+    }
+    let e = cane(&["controller.cane_schedule=theses"]).unwrap_err();
+    assert!(e.contains("did you mean 'thesis'"), "{e}");
+}
+
 #[test]
 fn overrides_change_values_by_path_and_by_name() {
     let s = load(

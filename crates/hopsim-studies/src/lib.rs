@@ -13,6 +13,7 @@
 //!   [`sweep`]: a scene over a grid of parameters, with its CSV and figure.
 //! * [`template`], [`obstacle`], [`impulsive_wheel`]: the reduced models of docs/physics.md
 //!   §5.1, §5.2 and §5.5 as studies.
+//! * [`optimize`]: CMA-ES over scene keys (or any function) with checkpoints.
 //! * [`progress`]: how studies report progress over their grids.
 
 pub mod error;
@@ -20,6 +21,7 @@ pub mod fixed_points;
 pub mod gait;
 pub mod impulsive_wheel;
 pub mod obstacle;
+pub mod optimize;
 pub mod plot;
 pub mod progress;
 pub mod report;
