@@ -1031,8 +1031,8 @@ mod tests {
             t.nb_pos.fill(7);
             let q: Vec<f64> = (0..n).map(|i| i as f64 - 2.5).collect();
             assert_eq!(load(n, &mut t, &q, 0.25, 12.0), 0.125);
-            for i in 0..n {
-                assert_eq!(t.tab[i], 0.25 * q[i]);
+            for (i, q) in q.iter().enumerate() {
+                assert_eq!(t.tab[i], 0.25 * q);
                 assert_eq!(t.basis[i], i);
                 assert_eq!(t.nb_pos[i], usize::MAX, "w_{i} is basic");
             }
