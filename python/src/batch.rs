@@ -3,6 +3,7 @@
 
 use crate::errors::guard;
 use crate::scene::PyScene;
+use crate::signals::SignalPoll;
 use crate::simulation::check_step_count;
 use hopsim_scene::Scene;
 use hopsim_sim::{Batch, BatchError};
@@ -15,6 +16,10 @@ use numpy::{
 use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use std::sync::{Arc, Mutex};
+
+/// Copy steps (copies × steps) a batch takes between two polls for signals: a few
+/// milliseconds at most, and few enough polls that they cost nothing measurable.
+const POLL_COPY_STEPS: usize = 4096;
 
 /// The Python exception of a batch refused or a copy's state refused.
 fn batch_error(e: BatchError) -> PyErr {
@@ -64,12 +69,13 @@ fn fill<T: numpy::Element + Copy, D: numpy::ndarray::Dimension>(
     array: &Bound<'_, numpy::PyArray<T, D>>,
     values: &[T],
 ) {
-    // SAFETY: the array is the batch's own, contiguous, of `values.len()` elements, and is
-    // written with the GIL held while no Rust borrow of it exists (Python code, which may
+    // SAFETY: the array is the batch's own, of `values.len()` elements, and is written
+    // with the GIL held while no Rust borrow of it exists (Python code, which may
     // hold views of it, cannot run meanwhile).
-    unsafe { array.as_slice_mut() }
-        .expect("the batch's arrays are contiguous")
-        .copy_from_slice(values);
+    let mut view = unsafe { array.as_array_mut() };
+    for (to, from) in view.iter_mut().zip(values) {
+        *to = *from;
+    }
 }
 
 impl PyBatch {
@@ -154,8 +160,10 @@ impl PyBatch {
     /// Takes `n` steps of every copy that is not done (at most the scene's
     /// `simulation.max_steps`), under `controls` (n_copies, nu) if given, else under the
     /// array `controls`, held over the `n` steps; the scene's controller acts in every
-    /// copy. The GIL is released while the copies step. A copy whose step fails is marked
-    /// `done` (its message in `error(i)`); the others go on.
+    /// copy. The GIL is released while the copies step, and Python's signal handlers run
+    /// about every 50 ms (Ctrl-C raises `KeyboardInterrupt`, the arrays holding the last
+    /// steps taken). A copy whose step fails is marked `done` (its message in
+    /// `error(i)`); the others go on.
     #[pyo3(signature = (n = 1, controls = None))]
     fn step(
         &mut self,
@@ -170,18 +178,31 @@ impl PyBatch {
         }
         let own = self.controls.bind(py).clone();
         let batch = self.batch();
-        // The controls as Python left them: the batch's array is contiguous and ours.
+        // The controls as Python left them (row-major, as the batch's).
         let given = own.readonly();
-        batch
-            .controls_mut()
-            .copy_from_slice(given.as_slice().expect("contiguous"));
+        for (to, from) in batch.controls_mut().iter_mut().zip(given.as_array().iter()) {
+            *to = *from;
+        }
         drop(given);
+        let mut poll = SignalPoll::new();
         guard(py, "Batch.step", || {
-            py.detach(|| batch.step(steps));
+            py.detach(|| {
+                // Blocks of about POLL_COPY_STEPS copy steps between polls for signals.
+                let block = (POLL_COPY_STEPS / batch.len()).max(1);
+                let mut left = steps;
+                while left > 0 {
+                    let k = left.min(block);
+                    batch.step(k);
+                    left -= k;
+                    if !poll.poll() {
+                        break;
+                    }
+                }
+            });
             Ok(())
         })?;
         self.publish(py);
-        Ok(())
+        poll.take_error().map_or(Ok(()), Err)
     }
 
     /// Time of each copy, s: (n,).
