@@ -2,14 +2,13 @@
 //!
 //! Each copy is a [`Simulation`] of its own [`Setup`] (usually one setup shared by all,
 //! its model behind one `Arc`), with its own state, controls (docs/physics.md §7.4) and
-//! controller. A batch step sets each copy's controls from the batch's array, steps every
-//! copy that is not done on a fixed number of threads (contiguous chunks of copies), then
-//! gathers the states into flat arrays. A copy never sees another, so copy `i` equals a
+//! controller. A batch step splits the copies into contiguous chunks, one per thread of a
+//! fixed pool; each thread sets its copies' controls from the batch's array, steps those
+//! that are not done and writes their rows of the batch's flat arrays. A copy never sees another, so copy `i` equals a
 //! single [`Simulation`] with the same inputs bit for bit, whatever the thread count.
 
 use crate::{RunError, Setup, Simulation, StateProblem};
 use hopsim_step::State;
-use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Why a batch cannot be built.
@@ -52,24 +51,111 @@ impl Lane {
         Self { sim, error: None }
     }
 
-    /// `steps` steps, or fewer if one fails (the error is kept; later calls do nothing).
-    fn advance(&mut self, steps: usize) {
-        if self.error.is_some() {
-            return;
-        }
-        for _ in 0..steps {
-            if let Err(e) = self.sim.step(&mut ()) {
-                self.error = Some(e);
-                return;
+    /// `steps` steps under `controls`, or fewer if one fails (the error is kept; later
+    /// calls do nothing).
+    fn advance(&mut self, steps: usize, controls: &[f64]) {
+        if self.error.is_none() {
+            if let Err(e) = self.sim.set_controls(controls) {
+                self.error = Some(e.into());
             }
         }
+        if self.error.is_none() {
+            for _ in 0..steps {
+                if let Err(e) = self.sim.step(&mut ()) {
+                    self.error = Some(e);
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// Contiguous copies with their rows of the batch's arrays.
+struct Part<'a> {
+    lanes: &'a mut [Lane],
+    t: &'a mut [f64],
+    q: &'a mut [f64],
+    u: &'a mut [f64],
+    controls: &'a mut [f64],
+    in_contact: &'a mut [bool],
+    done: &'a mut [bool],
+    nq: usize,
+    nu: usize,
+}
+
+impl Part<'_> {
+    /// Copies `..mid` and `mid..`.
+    fn split(self, mid: usize) -> (Self, Self) {
+        let (nq, nu) = (self.nq, self.nu);
+        let (lanes, lanes_b) = self.lanes.split_at_mut(mid);
+        let (t, t_b) = self.t.split_at_mut(mid);
+        let (q, q_b) = self.q.split_at_mut(mid * nq);
+        let (u, u_b) = self.u.split_at_mut(mid * nq);
+        let (controls, controls_b) = self.controls.split_at_mut(mid * nu);
+        let (in_contact, in_contact_b) = self.in_contact.split_at_mut(mid);
+        let (done, done_b) = self.done.split_at_mut(mid);
+        let a = Part {
+            lanes,
+            t,
+            q,
+            u,
+            controls,
+            in_contact,
+            done,
+            nq,
+            nu,
+        };
+        let b = Part {
+            lanes: lanes_b,
+            t: t_b,
+            q: q_b,
+            u: u_b,
+            controls: controls_b,
+            in_contact: in_contact_b,
+            done: done_b,
+            nq,
+            nu,
+        };
+        (a, b)
+    }
+
+    /// `steps` steps of each copy, then its rows from it; with `chunk`, contiguous chunks of
+    /// `chunk` copies on the current rayon pool (`rayon::join` halves: no allocation).
+    fn step(mut self, steps: usize, chunk: Option<usize>) {
+        let n = self.lanes.len();
+        if let Some(chunk) = chunk.filter(|&c| n > c) {
+            let mid = chunk * n.div_ceil(chunk).div_ceil(2);
+            let (a, b) = self.split(mid);
+            rayon::join(|| a.step(steps, Some(chunk)), || b.step(steps, Some(chunk)));
+            return;
+        }
+        let nu = self.nu;
+        for i in 0..n {
+            self.lanes[i].advance(steps, &self.controls[i * nu..(i + 1) * nu]);
+            self.gather(i);
+        }
+    }
+
+    /// Copy `i`'s state, controls (those that acted), contact flag and done flag into its
+    /// rows.
+    fn gather(&mut self, i: usize) {
+        let lane = &self.lanes[i];
+        let (nq, nu) = (self.nq, self.nu);
+        let state = lane.sim.state();
+        self.t[i] = state.t;
+        self.q[i * nq..(i + 1) * nq].copy_from_slice(state.q.as_slice());
+        self.u[i * nq..(i + 1) * nq].copy_from_slice(state.u.as_slice());
+        self.controls[i * nu..(i + 1) * nu].copy_from_slice(lane.sim.controls());
+        self.in_contact[i] = lane.sim.in_contact();
+        self.done[i] = lane.error.is_some();
     }
 }
 
 /// `n` copies of a model stepped together on a fixed number of threads, their states,
 /// controls, contact flags and done mask in flat row-major arrays (copy `i`'s
 /// coordinates at `i * nq .. (i + 1) * nq`). Sized at construction: a batch step
-/// allocates nothing beyond what its copies' steps do (their events).
+/// allocates nothing beyond what its copies' steps do (their events) and, on more than one
+/// thread, rayon's queue of jobs sent into the pool (a block per 63 batch steps).
 pub struct Batch {
     setups: Vec<Arc<Setup>>,
     lanes: Vec<Lane>,
@@ -228,27 +314,13 @@ impl Batch {
     /// [`Batch::controls_mut`] (held over the steps). A copy whose step fails is marked
     /// done with its error; the others go on.
     pub fn step(&mut self, steps: usize) {
-        for (i, lane) in self.lanes.iter_mut().enumerate() {
-            if lane.error.is_some() {
-                continue;
-            }
-            let controls = &self.controls[i * self.nu..(i + 1) * self.nu];
-            if let Err(e) = lane.sim.set_controls(controls) {
-                lane.error = Some(e.into());
-            }
-        }
         let chunk = self.lanes.len().div_ceil(self.threads);
-        match &self.pool {
-            None => self.lanes.iter_mut().for_each(|l| l.advance(steps)),
-            Some(pool) => pool.install(|| {
-                self.lanes
-                    .par_chunks_mut(chunk)
-                    .for_each(|lanes| lanes.iter_mut().for_each(|l| l.advance(steps)))
-            }),
+        let pool = self.pool.take();
+        match &pool {
+            None => self.part().step(steps, None),
+            Some(pool) => pool.install(|| self.part().step(steps, Some(chunk))),
         }
-        for i in 0..self.lanes.len() {
-            self.gather(i);
-        }
+        self.pool = pool;
     }
 
     /// Copy `i` anew at its setup's initial state (its controller and shapes too), not
@@ -294,16 +366,23 @@ impl Batch {
         }
     }
 
-    /// Copy `i`'s state, controls, contact flag and done flag into the flat arrays.
+    /// Every copy with its rows.
+    fn part(&mut self) -> Part<'_> {
+        Part {
+            lanes: &mut self.lanes,
+            t: &mut self.t,
+            q: &mut self.q,
+            u: &mut self.u,
+            controls: &mut self.controls,
+            in_contact: &mut self.in_contact,
+            done: &mut self.done,
+            nq: self.nq,
+            nu: self.nu,
+        }
+    }
+
+    /// Copy `i`'s rows of the arrays from it.
     fn gather(&mut self, i: usize) {
-        let lane = &self.lanes[i];
-        let (nq, nu) = (self.nq, self.nu);
-        let state = lane.sim.state();
-        self.t[i] = state.t;
-        self.q[i * nq..(i + 1) * nq].copy_from_slice(state.q.as_slice());
-        self.u[i * nq..(i + 1) * nq].copy_from_slice(state.u.as_slice());
-        self.controls[i * nu..(i + 1) * nu].copy_from_slice(lane.sim.controls());
-        self.in_contact[i] = lane.sim.in_contact();
-        self.done[i] = lane.error.is_some();
+        self.part().gather(i);
     }
 }
