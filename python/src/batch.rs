@@ -72,9 +72,14 @@ fn fill<T: numpy::Element + Copy, D: numpy::ndarray::Dimension>(
     // SAFETY: the array is the batch's own, of `values.len()` elements, and is written
     // with the GIL held while no Rust borrow of it exists (Python code, which may
     // hold views of it, cannot run meanwhile).
-    let mut view = unsafe { array.as_array_mut() };
-    for (to, from) in view.iter_mut().zip(values) {
-        *to = *from;
+    match unsafe { array.as_slice_mut() } {
+        Ok(slice) => slice.copy_from_slice(values),
+        Err(_) => {
+            let mut view = unsafe { array.as_array_mut() };
+            view.iter_mut()
+                .zip(values)
+                .for_each(|(to, from)| *to = *from);
+        }
     }
 }
 
@@ -180,8 +185,13 @@ impl PyBatch {
         let batch = self.batch();
         // The controls as Python left them (row-major, as the batch's).
         let given = own.readonly();
-        for (to, from) in batch.controls_mut().iter_mut().zip(given.as_array().iter()) {
-            *to = *from;
+        match given.as_slice() {
+            Ok(slice) => batch.controls_mut().copy_from_slice(slice),
+            Err(_) => batch
+                .controls_mut()
+                .iter_mut()
+                .zip(given.as_array().iter())
+                .for_each(|(to, from)| *to = *from),
         }
         drop(given);
         let mut poll = SignalPoll::new();
