@@ -13,6 +13,8 @@ wraps the Rust crates of hopsim (it re-implements nothing): the numbers are thos
 * :class:`Simulation`: ``step()``, the state as numpy arrays, ``contacts()``, per-step
   :class:`Actuation` from a controller written in Python, ``run()`` returning a
   :class:`Trajectory` with the run summary of ``hopsim run --summary``.
+* :class:`Batch`: copies of a scene (or :class:`Model`) stepped together on Rust threads,
+  their states, controls, contact flags and done mask in numpy arrays filled in place.
 * :mod:`hopsim.lcp`: ``solve(M, q)`` by Lemke's method with its certificate.
 * :func:`read_mcap`: a recording written by ``hopsim run --mcap`` as arrays.
 * :func:`sweep`: a scene over a grid of parameters on all local cores, or on a Dask
@@ -57,6 +59,7 @@ __version__: str = _hopsim.__version__
 
 __all__ = [
     "Actuation",
+    "Batch",
     "HopsimError",
     "InternalError",
     "Model",
@@ -134,3 +137,26 @@ def read_mcap(path: str | _os.PathLike[str]) -> Recording:
 
 # The future import binds the name ``annotations`` in this module; it is no part of the API.
 del annotations
+
+
+class Batch(_hopsim.Batch):
+    """``n`` copies of a scene (or of a :class:`Model`'s scene) stepped together on
+    ``threads`` Rust threads (default: the machine's cores), the GIL released; copy ``i``
+    equals a :class:`Simulation` of the scene with the same start and controls bit for bit,
+    whatever the thread count.
+
+    ``t`` (n,), ``q`` and ``u`` (n, nq), ``in_contact`` and ``done`` (n,) are read-only
+    numpy arrays owned by the batch and filled in place by every ``step``, ``reset`` and
+    ``set_state`` (keep them: no array is allocated per step). ``controls`` (n, nu) is
+    written by the caller (in place or by assignment) and read before each step; after
+    it, it holds the controls that acted. ``step(n=1, controls=None)`` takes ``n`` steps
+    of every copy that is not done; a copy whose step fails is marked ``done`` with its
+    message in ``error(i)`` while the others go on. ``reset(i=None)`` restarts a copy (or
+    all) at the scene's initial state; ``set_state(i, q, u, t=None)`` restarts one at a
+    state, checked as :meth:`Simulation.set_state` checks.
+    """
+
+    def __new__(cls, scene: Scene | Model, n: int, threads: int | None = None) -> "Batch":
+        if isinstance(scene, Model):
+            scene = scene.scene()
+        return super().__new__(cls, scene, n, threads)

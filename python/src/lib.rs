@@ -3,6 +3,7 @@
 //! solver, MCAP recordings, sweeps). The pure-Python package `hopsim` re-exports it with
 //! trajectories, tables and the Dask front end of sweeps.
 
+mod batch;
 mod errors;
 mod lcp;
 mod mcap;
@@ -22,6 +23,7 @@ fn _hopsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<simulation::PySimulation>()?;
     m.add_class::<simulation::PyActuation>()?;
     m.add_class::<optimize::PySearch>()?;
+    m.add_class::<batch::PyBatch>()?;
     for class in errors::Class::ALL {
         m.add(class.name(), errors::class(py, class)?)?;
     }

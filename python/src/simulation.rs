@@ -43,7 +43,7 @@ fn run_error(py: Python<'_>, what: &str, e: RunError, poll: Option<&mut SignalPo
 
 /// Refuses a call of `steps` steps when the scene's `simulation.max_steps` is smaller (the
 /// bound of every run, as `hopsim run` has it).
-fn check_step_count(scene: &Scene, steps: u64) -> PyResult<()> {
+pub(crate) fn check_step_count(scene: &Scene, steps: u64) -> PyResult<()> {
     let max = scene.settings.max_steps;
     if steps <= max {
         return Ok(());

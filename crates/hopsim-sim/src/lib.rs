@@ -5,6 +5,7 @@
 //! * [`Simulation`]: one step at a time (the scene's controller, or a caller's actuation
 //!   with [`Simulation::step_with`]); [`run`]: a whole run and its [`Summary`];
 //!   [`run_for`]: a span of a simulation under way.
+//! * [`Batch`]: many copies of a model stepped together on a fixed number of threads.
 //! * [`Observer`]: what watches a run ([`StepView`] after every step).
 //! * [`RecordingObserver`]: frames and events to the recorders of `hopsim-record`.
 //! * [`PoincareSection`]: a stroboscopic section of a run and its period ([`Periodicity`]).
@@ -12,6 +13,7 @@
 //!   [`Settings`]), however it was described; [`check_state`], [`check_start`]: a start
 //!   state checked against it.
 
+mod batch;
 mod error;
 mod flight;
 mod observer;
@@ -23,6 +25,7 @@ mod simulation;
 mod start;
 mod summary;
 
+pub use batch::{Batch, BatchError};
 pub use error::{panic_message, RunError};
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView, StopFlag};

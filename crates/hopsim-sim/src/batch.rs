@@ -1,0 +1,388 @@
+//! Many simulations of one model stepped together: a [`Batch`].
+//!
+//! Each copy is a [`Simulation`] of its own [`Setup`] (usually one setup shared by all,
+//! its model behind one `Arc`), with its own state, controls (docs/physics.md §7.4) and
+//! controller. A batch step splits the copies into contiguous chunks, one per thread of a
+//! fixed pool; each thread sets its copies' controls from the batch's array, steps those
+//! that are not done and writes their rows of the batch's flat arrays. A copy never sees another, so copy `i` equals a
+//! single [`Simulation`] with the same inputs bit for bit, whatever the thread count.
+
+use crate::{RunError, Setup, Simulation, StateProblem};
+use hopsim_step::State;
+use std::sync::Arc;
+
+/// Why a batch cannot be built.
+#[derive(Debug, thiserror::Error)]
+pub enum BatchError {
+    #[error("a batch needs at least one copy")]
+    Empty,
+    #[error("a batch needs at least one thread")]
+    NoThreads,
+    #[error(
+        "copy {copy} has {coordinates} coordinates and {actuators} actuators, copy 0 \
+         {expected_coordinates} and {expected_actuators}: every copy must have the same sizes"
+    )]
+    Sizes {
+        copy: usize,
+        coordinates: usize,
+        actuators: usize,
+        expected_coordinates: usize,
+        expected_actuators: usize,
+    },
+    #[error("cannot start {threads} threads: {message}")]
+    Threads { threads: usize, message: String },
+    #[error("copy {copy} is out of range: the batch has {copies} copies")]
+    NoSuchCopy { copy: usize, copies: usize },
+    #[error("copy {copy}: {problem}")]
+    State { copy: usize, problem: StateProblem },
+}
+
+/// One copy: its simulation and the error that stopped it.
+struct Lane {
+    sim: Simulation,
+    error: Option<RunError>,
+}
+
+impl Lane {
+    fn new(setup: Arc<Setup>) -> Self {
+        let mut sim = Simulation::shared(setup);
+        // Observers of a batch see no energies; the state does not depend on the account.
+        sim.set_ledger(false);
+        Self { sim, error: None }
+    }
+
+    /// `steps` steps under `controls`, or fewer if one fails (the error is kept; later
+    /// calls do nothing).
+    fn advance(&mut self, steps: usize, controls: &[f64]) {
+        if self.error.is_none() {
+            if let Err(e) = self.sim.set_controls(controls) {
+                self.error = Some(e.into());
+            }
+        }
+        if self.error.is_none() {
+            for _ in 0..steps {
+                if let Err(e) = self.sim.step(&mut ()) {
+                    self.error = Some(e);
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// Contiguous copies with their rows of the batch's arrays.
+struct Part<'a> {
+    lanes: &'a mut [Lane],
+    t: &'a mut [f64],
+    q: &'a mut [f64],
+    u: &'a mut [f64],
+    controls: &'a mut [f64],
+    in_contact: &'a mut [bool],
+    done: &'a mut [bool],
+    nq: usize,
+    nu: usize,
+}
+
+impl Part<'_> {
+    /// Copies `..mid` and `mid..`.
+    fn split(self, mid: usize) -> (Self, Self) {
+        let (nq, nu) = (self.nq, self.nu);
+        let (lanes, lanes_b) = self.lanes.split_at_mut(mid);
+        let (t, t_b) = self.t.split_at_mut(mid);
+        let (q, q_b) = self.q.split_at_mut(mid * nq);
+        let (u, u_b) = self.u.split_at_mut(mid * nq);
+        let (controls, controls_b) = self.controls.split_at_mut(mid * nu);
+        let (in_contact, in_contact_b) = self.in_contact.split_at_mut(mid);
+        let (done, done_b) = self.done.split_at_mut(mid);
+        let a = Part {
+            lanes,
+            t,
+            q,
+            u,
+            controls,
+            in_contact,
+            done,
+            nq,
+            nu,
+        };
+        let b = Part {
+            lanes: lanes_b,
+            t: t_b,
+            q: q_b,
+            u: u_b,
+            controls: controls_b,
+            in_contact: in_contact_b,
+            done: done_b,
+            nq,
+            nu,
+        };
+        (a, b)
+    }
+
+    /// `steps` steps of each copy, then its rows from it; with `chunk`, contiguous chunks of
+    /// `chunk` copies on the current rayon pool (`rayon::join` halves: no allocation).
+    fn step(mut self, steps: usize, chunk: Option<usize>) {
+        let n = self.lanes.len();
+        if let Some(chunk) = chunk.filter(|&c| n > c) {
+            let mid = chunk * n.div_ceil(chunk).div_ceil(2);
+            let (a, b) = self.split(mid);
+            rayon::join(|| a.step(steps, Some(chunk)), || b.step(steps, Some(chunk)));
+            return;
+        }
+        let nu = self.nu;
+        for i in 0..n {
+            self.lanes[i].advance(steps, &self.controls[i * nu..(i + 1) * nu]);
+            self.gather(i);
+        }
+    }
+
+    /// Copy `i`'s state, controls (those that acted), contact flag and done flag into its
+    /// rows.
+    fn gather(&mut self, i: usize) {
+        let lane = &self.lanes[i];
+        let (nq, nu) = (self.nq, self.nu);
+        let state = lane.sim.state();
+        self.t[i] = state.t;
+        self.q[i * nq..(i + 1) * nq].copy_from_slice(state.q.as_slice());
+        self.u[i * nq..(i + 1) * nq].copy_from_slice(state.u.as_slice());
+        self.controls[i * nu..(i + 1) * nu].copy_from_slice(lane.sim.controls());
+        self.in_contact[i] = lane.sim.in_contact();
+        self.done[i] = lane.error.is_some();
+    }
+}
+
+/// `n` copies of a model stepped together on a fixed number of threads, their states,
+/// controls, contact flags and done mask in flat row-major arrays (copy `i`'s
+/// coordinates at `i * nq .. (i + 1) * nq`). Sized at construction: a batch step
+/// allocates nothing beyond what its copies' steps do (their events) and, on more than one
+/// thread, rayon's queue of jobs sent into the pool (a block per 63 batch steps).
+pub struct Batch {
+    setups: Vec<Arc<Setup>>,
+    lanes: Vec<Lane>,
+    nq: usize,
+    nu: usize,
+    t: Vec<f64>,
+    q: Vec<f64>,
+    u: Vec<f64>,
+    controls: Vec<f64>,
+    in_contact: Vec<bool>,
+    done: Vec<bool>,
+    /// `None` for one thread (the copies are stepped on the caller's thread).
+    pool: Option<rayon::ThreadPool>,
+    threads: usize,
+}
+
+impl Batch {
+    /// `n` copies of `setup` (one shared model) at its initial state, stepped on `threads`
+    /// threads.
+    pub fn new(setup: &Setup, n: usize, threads: usize) -> Result<Self, BatchError> {
+        let shared = Arc::new(setup.clone());
+        Self::of_setups(vec![shared; n], threads)
+    }
+
+    /// One copy per setup (per-copy parameters: masses, friction, controller keys), each
+    /// at its setup's initial state. Every setup must have the same numbers of
+    /// coordinates and actuators.
+    pub fn of_setups(setups: Vec<Arc<Setup>>, threads: usize) -> Result<Self, BatchError> {
+        let first = setups.first().ok_or(BatchError::Empty)?;
+        if threads == 0 {
+            return Err(BatchError::NoThreads);
+        }
+        let sizes = |s: &Setup| (s.initial.q.len(), s.model.actuators().len());
+        let (nq, nu) = sizes(first);
+        for (copy, s) in setups.iter().enumerate() {
+            let (coordinates, actuators) = sizes(s);
+            if (coordinates, actuators) != (nq, nu) {
+                return Err(BatchError::Sizes {
+                    copy,
+                    coordinates,
+                    actuators,
+                    expected_coordinates: nq,
+                    expected_actuators: nu,
+                });
+            }
+        }
+        let pool = match threads {
+            1 => None,
+            _ => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .map_err(|e| BatchError::Threads {
+                        threads,
+                        message: e.to_string(),
+                    })?,
+            ),
+        };
+        let n = setups.len();
+        let lanes = setups.iter().map(|s| Lane::new(s.clone())).collect();
+        let mut batch = Self {
+            setups,
+            lanes,
+            nq,
+            nu,
+            t: vec![0.0; n],
+            q: vec![0.0; n * nq],
+            u: vec![0.0; n * nq],
+            controls: vec![0.0; n * nu],
+            in_contact: vec![false; n],
+            done: vec![false; n],
+            pool,
+            threads,
+        };
+        for i in 0..n {
+            batch.gather(i);
+        }
+        Ok(batch)
+    }
+
+    /// The number of copies.
+    pub fn len(&self) -> usize {
+        self.lanes.len()
+    }
+
+    /// Whether the batch has no copies (never: a batch has at least one).
+    pub fn is_empty(&self) -> bool {
+        self.lanes.is_empty()
+    }
+
+    /// Coordinates per copy.
+    pub fn nq(&self) -> usize {
+        self.nq
+    }
+
+    /// Actuators (controls) per copy.
+    pub fn nu(&self) -> usize {
+        self.nu
+    }
+
+    /// The threads the copies are stepped on.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Each copy's time, s.
+    pub fn t(&self) -> &[f64] {
+        &self.t
+    }
+
+    /// Coordinates, `n × nq` row-major.
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// Velocities, `n × nq` row-major.
+    pub fn u(&self) -> &[f64] {
+        &self.u
+    }
+
+    /// The actuators' controls, `n × nu` row-major: after a step, the controls that acted
+    /// in its last step (a setup's control signals replace the given ones).
+    pub fn controls(&self) -> &[f64] {
+        &self.controls
+    }
+
+    /// The controls for the next step, `n × nu` row-major, checked at the step (a
+    /// non-finite control stops its copy with [`RunError::Actuation`]).
+    pub fn controls_mut(&mut self) -> &mut [f64] {
+        &mut self.controls
+    }
+
+    /// Whether the world carried a normal percussion in each copy's last step
+    /// ([`Simulation::in_contact`]).
+    pub fn in_contact(&self) -> &[bool] {
+        &self.in_contact
+    }
+
+    /// Whether each copy is done (a step of it failed: see [`Batch::error`]); a done copy
+    /// is not stepped until it is reset.
+    pub fn done(&self) -> &[bool] {
+        &self.done
+    }
+
+    /// The error that stopped copy `i`, if any.
+    pub fn error(&self, i: usize) -> Option<&RunError> {
+        self.lanes.get(i)?.error.as_ref()
+    }
+
+    /// Copy `i`'s simulation (its stepper, events, hops, setup).
+    pub fn simulation(&self, i: usize) -> Option<&Simulation> {
+        self.lanes.get(i).map(|l| &l.sim)
+    }
+
+    /// Takes `steps` steps of every copy that is not done, under the controls of
+    /// [`Batch::controls_mut`] (held over the steps). A copy whose step fails is marked
+    /// done with its error; the others go on.
+    pub fn step(&mut self, steps: usize) {
+        let chunk = self.lanes.len().div_ceil(self.threads);
+        let pool = self.pool.take();
+        match &pool {
+            None => self.part().step(steps, None),
+            Some(pool) => pool.install(|| self.part().step(steps, Some(chunk))),
+        }
+        self.pool = pool;
+    }
+
+    /// Copy `i` anew at its setup's initial state (its controller and shapes too), not
+    /// done.
+    pub fn reset(&mut self, i: usize) -> Result<(), BatchError> {
+        self.check(i)?;
+        self.lanes[i] = Lane::new(self.setups[i].clone());
+        self.gather(i);
+        Ok(())
+    }
+
+    /// Every copy anew ([`Batch::reset`]).
+    pub fn reset_all(&mut self) {
+        for i in 0..self.len() {
+            self.lanes[i] = Lane::new(self.setups[i].clone());
+            self.gather(i);
+        }
+    }
+
+    /// Restarts copy `i` at `state`, checked as [`Simulation::set_state`] does; a done
+    /// copy is reset first. On an error nothing changes.
+    pub fn set_state(&mut self, i: usize, state: State) -> Result<(), BatchError> {
+        self.check(i)?;
+        let problem = |problem| BatchError::State { copy: i, problem };
+        if self.lanes[i].error.is_some() {
+            let mut lane = Lane::new(self.setups[i].clone());
+            lane.sim.set_state(state).map_err(problem)?;
+            self.lanes[i] = lane;
+        } else {
+            self.lanes[i].sim.set_state(state).map_err(problem)?;
+        }
+        self.gather(i);
+        Ok(())
+    }
+
+    fn check(&self, copy: usize) -> Result<(), BatchError> {
+        match copy < self.len() {
+            true => Ok(()),
+            false => Err(BatchError::NoSuchCopy {
+                copy,
+                copies: self.len(),
+            }),
+        }
+    }
+
+    /// Every copy with its rows.
+    fn part(&mut self) -> Part<'_> {
+        Part {
+            lanes: &mut self.lanes,
+            t: &mut self.t,
+            q: &mut self.q,
+            u: &mut self.u,
+            controls: &mut self.controls,
+            in_contact: &mut self.in_contact,
+            done: &mut self.done,
+            nq: self.nq,
+            nu: self.nu,
+        }
+    }
+
+    /// Copy `i`'s rows of the arrays from it.
+    fn gather(&mut self, i: usize) {
+        self.part().gather(i);
+    }
+}

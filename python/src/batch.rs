@@ -1,0 +1,346 @@
+//! `hopsim.Batch`: copies of a scene stepped together on Rust threads (`hopsim_sim::Batch`),
+//! their states, controls, contact flags and done mask in numpy arrays filled in place.
+
+use crate::errors::guard;
+use crate::scene::PyScene;
+use crate::signals::SignalPoll;
+use crate::simulation::check_step_count;
+use hopsim_scene::Scene;
+use hopsim_sim::{Batch, BatchError};
+use hopsim_step::State;
+use nalgebra::DVector;
+use numpy::{
+    AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2, PyArrayMethods,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyIndexError, PyValueError};
+use pyo3::prelude::*;
+use std::sync::{Arc, Mutex};
+
+/// Copy steps (copies × steps) a batch takes between two polls for signals: a few
+/// milliseconds at most, and few enough polls that they cost nothing measurable.
+const POLL_COPY_STEPS: usize = 4096;
+
+/// The Python exception of a batch refused or a copy's state refused.
+fn batch_error(e: BatchError) -> PyErr {
+    match e {
+        BatchError::NoSuchCopy { .. } => PyIndexError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// `n` copies of a scene stepped together on `threads` Rust threads (default: the machine's
+/// cores, at most `n`), the GIL released. Copy `i` equals a `Simulation` of the scene with
+/// the same start and controls bit for bit, whatever the thread count. `t` (n,), `q`, `u`
+/// (n, nq), `in_contact` and `done` (n,) are numpy arrays owned by the batch, filled in
+/// place by every step and reset (read-only: use `set_state`); `controls` (n, nu) is
+/// written by the caller (in place, or by assignment) and read before each step.
+#[pyclass(name = "Batch", module = "hopsim", subclass)]
+pub struct PyBatch {
+    /// `Batch` holds the copies' controllers (`Send`, not `Sync`); methods taking `&mut
+    /// self` reach it without locking.
+    batch: Mutex<Batch>,
+    scene: Arc<Scene>,
+    py_scene: Py<PyScene>,
+    t: Py<PyArray1<f64>>,
+    q: Py<PyArray2<f64>>,
+    u: Py<PyArray2<f64>>,
+    controls: Py<PyArray2<f64>>,
+    in_contact: Py<PyArray1<bool>>,
+    done: Py<PyArray1<bool>>,
+}
+
+/// `n × width` zeros, writeable by Python or not.
+fn matrix(py: Python<'_>, n: usize, width: usize, writeable: bool) -> PyResult<Py<PyArray2<f64>>> {
+    let a = PyArray2::<f64>::zeros(py, [n, width], false);
+    read_only(a.as_any(), writeable)?;
+    Ok(a.unbind())
+}
+
+fn read_only(array: &Bound<'_, PyAny>, writeable: bool) -> PyResult<()> {
+    if !writeable {
+        array.call_method1("setflags", (false,))?;
+    }
+    Ok(())
+}
+
+/// Writes `values` into `array` (the batch's own array, of the same length).
+fn fill<T: numpy::Element + Copy, D: numpy::ndarray::Dimension>(
+    array: &Bound<'_, numpy::PyArray<T, D>>,
+    values: &[T],
+) {
+    // SAFETY: the array is the batch's own, of `values.len()` elements, and is written
+    // with the GIL held while no Rust borrow of it exists (Python code, which may
+    // hold views of it, cannot run meanwhile).
+    match unsafe { array.as_slice_mut() } {
+        Ok(slice) => slice.copy_from_slice(values),
+        Err(_) => {
+            let mut view = unsafe { array.as_array_mut() };
+            view.iter_mut()
+                .zip(values)
+                .for_each(|(to, from)| *to = *from);
+        }
+    }
+}
+
+impl PyBatch {
+    fn batch(&mut self) -> &mut Batch {
+        self.batch.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The batch's arrays from its copies.
+    fn publish(&mut self, py: Python<'_>) {
+        let batch = self.batch.get_mut().unwrap_or_else(|e| e.into_inner());
+        fill(self.t.bind(py), batch.t());
+        fill(self.q.bind(py), batch.q());
+        fill(self.u.bind(py), batch.u());
+        fill(self.controls.bind(py), batch.controls());
+        fill(self.in_contact.bind(py), batch.in_contact());
+        fill(self.done.bind(py), batch.done());
+    }
+}
+
+#[pymethods]
+impl PyBatch {
+    #[new]
+    #[pyo3(signature = (scene, n, threads = None))]
+    fn new(
+        py: Python<'_>,
+        scene: Bound<'_, PyScene>,
+        n: usize,
+        threads: Option<usize>,
+    ) -> PyResult<Self> {
+        let shared = scene.get().scene.clone();
+        let threads = threads.unwrap_or_else(|| {
+            let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+            cores.min(n.max(1))
+        });
+        let batch = guard(py, "Batch", || {
+            py.detach(|| Batch::new(&shared.setup, n, threads))
+                .map_err(batch_error)
+        })?;
+        let (nq, nu) = (batch.nq(), batch.nu());
+        let flags = |writeable| -> PyResult<Py<PyArray1<bool>>> {
+            let a = PyArray1::<bool>::zeros(py, n, false);
+            read_only(a.as_any(), writeable)?;
+            Ok(a.unbind())
+        };
+        let t = PyArray1::<f64>::zeros(py, n, false);
+        read_only(t.as_any(), false)?;
+        let mut this = Self {
+            batch: Mutex::new(batch),
+            scene: shared,
+            py_scene: scene.unbind(),
+            t: t.unbind(),
+            q: matrix(py, n, nq, false)?,
+            u: matrix(py, n, nq, false)?,
+            controls: matrix(py, n, nu, true)?,
+            in_contact: flags(false)?,
+            done: flags(false)?,
+        };
+        this.publish(py);
+        Ok(this)
+    }
+
+    /// The scene of every copy.
+    #[getter]
+    fn scene(&self, py: Python<'_>) -> Py<PyScene> {
+        self.py_scene.clone_ref(py)
+    }
+
+    /// The number of copies.
+    fn __len__(&self) -> usize {
+        self.batch.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    /// The threads the copies are stepped on.
+    #[getter]
+    fn threads(&self) -> usize {
+        self.batch
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .threads()
+    }
+
+    /// Takes `n` steps of every copy that is not done (at most the scene's
+    /// `simulation.max_steps`), under `controls` (n_copies, nu) if given, else under the
+    /// array `controls`, held over the `n` steps; the scene's controller acts in every
+    /// copy. The GIL is released while the copies step, and Python's signal handlers run
+    /// about every 50 ms (Ctrl-C raises `KeyboardInterrupt`, the arrays holding the last
+    /// steps taken). A copy whose step fails is marked `done` (its message in
+    /// `error(i)`); the others go on.
+    #[pyo3(signature = (n = 1, controls = None))]
+    fn step(
+        &mut self,
+        py: Python<'_>,
+        n: u64,
+        controls: Option<PyArrayLike2<'_, f64, AllowTypeChange>>,
+    ) -> PyResult<()> {
+        check_step_count(&self.scene, n)?;
+        let steps = usize::try_from(n).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        if let Some(c) = controls {
+            self.set_controls(py, c)?;
+        }
+        let own = self.controls.bind(py).clone();
+        let batch = self.batch();
+        // The controls as Python left them (row-major, as the batch's).
+        let given = own.readonly();
+        match given.as_slice() {
+            Ok(slice) => batch.controls_mut().copy_from_slice(slice),
+            Err(_) => batch
+                .controls_mut()
+                .iter_mut()
+                .zip(given.as_array().iter())
+                .for_each(|(to, from)| *to = *from),
+        }
+        drop(given);
+        let mut poll = SignalPoll::new();
+        guard(py, "Batch.step", || {
+            py.detach(|| {
+                // Blocks of about POLL_COPY_STEPS copy steps between polls for signals.
+                let block = (POLL_COPY_STEPS / batch.len()).max(1);
+                let mut left = steps;
+                while left > 0 {
+                    let k = left.min(block);
+                    batch.step(k);
+                    left -= k;
+                    if !poll.poll() {
+                        break;
+                    }
+                }
+            });
+            Ok(())
+        })?;
+        self.publish(py);
+        poll.take_error().map_or(Ok(()), Err)
+    }
+
+    /// Time of each copy, s: (n,).
+    #[getter]
+    fn t(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.t.clone_ref(py)
+    }
+
+    /// Generalised coordinates of each copy: (n, nq).
+    #[getter]
+    fn q(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.q.clone_ref(py)
+    }
+
+    /// Generalised velocities of each copy: (n, nq).
+    #[getter]
+    fn u(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.u.clone_ref(py)
+    }
+
+    /// The actuators' controls of each copy, (n, nu), in the order of the scene's
+    /// `[[actuators]]`: read before each step; after one, the controls that acted (a
+    /// control signal of the scene replaces the given value).
+    #[getter]
+    fn get_controls(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.controls.clone_ref(py)
+    }
+
+    #[setter(controls)]
+    fn set_controls(
+        &mut self,
+        py: Python<'_>,
+        controls: PyArrayLike2<'_, f64, AllowTypeChange>,
+    ) -> PyResult<()> {
+        let own = self.controls.bind(py);
+        let (shape, given) = (own.shape().to_vec(), controls.as_array());
+        if given.shape() != shape.as_slice() {
+            return Err(PyValueError::new_err(format!(
+                "controls: expected shape {shape:?} (copies, actuators), got {:?}",
+                given.shape()
+            )));
+        }
+        own.readwrite().as_array_mut().assign(&given);
+        Ok(())
+    }
+
+    /// Whether the world carried a normal percussion in each copy's last step: (n,).
+    #[getter]
+    fn in_contact(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
+        self.in_contact.clone_ref(py)
+    }
+
+    /// Whether each copy is done (a step failed: `error(i)`); a done copy does not step
+    /// until `reset(i)` or `set_state(i, …)`: (n,).
+    #[getter]
+    fn done(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
+        self.done.clone_ref(py)
+    }
+
+    /// The message of the error that stopped copy `i`, or None.
+    fn error(&self, i: usize) -> PyResult<Option<String>> {
+        let batch = self.batch.lock().unwrap_or_else(|e| e.into_inner());
+        if i >= batch.len() {
+            return Err(batch_error(BatchError::NoSuchCopy {
+                copy: i,
+                copies: batch.len(),
+            }));
+        }
+        Ok(batch.error(i).map(|e| e.to_string()))
+    }
+
+    /// Copy `i` anew at the scene's initial state (its controller, shapes and controls
+    /// too), not done; every copy without `i`.
+    #[pyo3(signature = (i = None))]
+    fn reset(&mut self, py: Python<'_>, i: Option<usize>) -> PyResult<()> {
+        let batch = self.batch();
+        guard(py, "Batch.reset", || match i {
+            Some(i) => batch.reset(i).map_err(batch_error),
+            None => {
+                batch.reset_all();
+                Ok(())
+            }
+        })?;
+        self.publish(py);
+        Ok(())
+    }
+
+    /// Restarts copy `i` at `q`, `u` and time `t` (default: the copy's time), checked as
+    /// `Simulation.set_state` checks (`ValueError`); a done copy is reset first.
+    #[pyo3(signature = (i, q, u, t = None))]
+    fn set_state(
+        &mut self,
+        py: Python<'_>,
+        i: usize,
+        q: PyArrayLike1<'_, f64, AllowTypeChange>,
+        u: PyArrayLike1<'_, f64, AllowTypeChange>,
+        t: Option<f64>,
+    ) -> PyResult<()> {
+        let (q, u) = (q.as_array(), u.as_array());
+        let batch = self.batch();
+        let t = match t {
+            Some(t) => t,
+            None => *batch.t().get(i).ok_or_else(|| {
+                batch_error(BatchError::NoSuchCopy {
+                    copy: i,
+                    copies: batch.len(),
+                })
+            })?,
+        };
+        let state = State {
+            t,
+            q: DVector::from_iterator(q.len(), q.iter().copied()),
+            u: DVector::from_iterator(u.len(), u.iter().copied()),
+        };
+        guard(py, "Batch.set_state", || {
+            batch.set_state(i, state).map_err(batch_error)
+        })?;
+        self.publish(py);
+        Ok(())
+    }
+
+    fn __repr__(&self) -> String {
+        let batch = self.batch.lock().unwrap_or_else(|e| e.into_inner());
+        format!(
+            "Batch({} copies of '{}', {} threads)",
+            batch.len(),
+            self.scene.title,
+            batch.threads()
+        )
+    }
+}
