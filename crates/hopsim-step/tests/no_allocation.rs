@@ -6,41 +6,10 @@ mod common;
 
 use hopsim_model::{Model, Shape, Terrain, Vec2};
 use hopsim_step::{Actuation, ImpulseCommand, State, Stepper};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 
-struct Counting;
-
-thread_local! {
-    /// Allocations of this thread (tests run in parallel threads of one process).
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn count() {
-    // `try_with`: the slot may be gone while a thread shuts down.
-    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-fn allocated() -> usize {
-    ALLOCATIONS.with(|c| c.get())
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "../../../tests/support/counting_allocator.rs"]
+mod counting_allocator;
+use counting_allocator::allocated;
 
 /// Allocations made by `steps` calls of `step` after `warm_up` calls.
 fn allocations(warm_up: usize, steps: usize, mut step: impl FnMut(usize)) -> usize {
