@@ -94,6 +94,7 @@ _SECTIONS: Tuple[_Section, ...] = (
         ("coordinate_name", STRING, "the coordinate's name in recordings and CSV"),
         ("damping", NUMBER, "viscous joint damping, N m s/rad or N s/m (0)"),
         ("armature", NUMBER, "added to the mass matrix at the joint's coordinate, kg m² or kg (0)"),
+        ("dry_friction", NUMBER, "Coulomb friction in the joint: the largest torque or force it transmits, N m or N (0)"),
         ("stiffness", NUMBER, "joint spring, N m/rad or N/m (0)"),
         ("rest_position", NUMBER, "the joint spring's rest position, rad or m (0)"),
         ("limits", VEC2, "[lower, upper] end stops of the joint position, rad or m"),

@@ -63,6 +63,7 @@ class Model:
         coordinate_name: Optional[str] = ...,
         damping: Optional[float] = ...,
         armature: Optional[float] = ...,
+        dry_friction: Optional[float] = ...,
         stiffness: Optional[float] = ...,
         rest_position: Optional[float] = ...,
         limits: Optional[_Vec2] = ...,

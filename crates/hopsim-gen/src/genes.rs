@@ -43,6 +43,8 @@ pub struct BodyGene {
     pub spring: Option<(f64, f64)>,
     /// Joint damper (log-uniform).
     pub damping: Option<f64>,
+    /// Dry friction in the joint (log-uniform, about the body's weight).
+    pub dry_friction: Option<f64>,
     /// Start: the coordinate's place in its range, and its rate in `[-1, 1]`.
     pub start: f64,
     pub rate: f64,
@@ -139,6 +141,7 @@ fn body_gene() -> impl Strategy<Value = BodyGene> {
             unit(),
             option::weighted(0.3, (unit(), unit())),
             option::weighted(0.3, unit()),
+            option::weighted(0.3, unit()),
         ),
         (unit(), signed(), (unit(), unit(), unit())),
     )
@@ -147,7 +150,7 @@ fn body_gene() -> impl Strategy<Value = BodyGene> {
                 (attach, base, prismatic, absolute),
                 (mass, size, inertia),
                 (pivot, com, axis),
-                (limits, limit_restitution, spring, damping),
+                (limits, limit_restitution, spring, damping, dry_friction),
                 (start, rate, place),
             )| BodyGene {
                 attach,
@@ -164,6 +167,7 @@ fn body_gene() -> impl Strategy<Value = BodyGene> {
                 limit_restitution,
                 spring,
                 damping,
+                dry_friction,
                 start,
                 rate,
                 place,

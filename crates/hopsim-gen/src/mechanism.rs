@@ -335,6 +335,16 @@ impl Mechanism {
                 let scale = if prismatic { body.mass } else { body.inertia };
                 let _ = writeln!(t, "damping = {}", num(scale * log_range(c, 0.01, 1e4)));
             }
+            if let Some(d) = g.dry_friction {
+                // From a hundredth of the body's weight (times its size) to twice it: joints
+                // that slip and joints that hold against gravity.
+                let weight = body.mass * 9.81 * if prismatic { 1.0 } else { body.size };
+                let _ = writeln!(
+                    t,
+                    "dry_friction = {}",
+                    num(weight * log_range(d, 0.01, 2.0))
+                );
+            }
         }
         t.push('\n');
     }

@@ -8,8 +8,8 @@
 //! - Hinges are revolute joints, `coordinate = "clockwise"` when MuJoCo's axis points
 //!   against the plane's normal; a hinge's `ref` turns its body's frame, a slide's `ref`
 //!   moves its pivot, so that a coordinate equal to `qpos` puts the body where MuJoCo does.
-//! - Springs (`stiffness`, `springref`), damping, `armature` and `range` act on the
-//!   coordinate as in MuJoCo; `frictionloss` is not modelled (a notice).
+//! - Springs (`stiffness`, `springref`), damping, `armature`, `range` and `frictionloss`
+//!   (hard dry friction, docs/physics.md §7.5) act on the coordinate as in MuJoCo.
 //! - Actuators are `[[actuators]]` in MuJoCo's order (the order of `ctrl`), on their
 //!   joints' bodies: `<motor>`, `<position>` (`kp`, `kv`), `<velocity>` (`kv`) with gear,
 //!   control range (when `clampctrl` is on) and force range; a joint's
@@ -287,11 +287,7 @@ pub fn scene_toml(model: &PlanarModel, source: &str) -> Result<SceneText, Import
             let _ = writeln!(t, "limits = [{}, {}]", num(lower), num(upper));
         }
         if joint.frictionloss != 0.0 && model.options.frictionloss {
-            notices.push(format!(
-                "joint `{}`: its dry friction (frictionloss {}) is not modelled",
-                joint.name,
-                num(joint.frictionloss)
-            ));
+            let _ = writeln!(t, "dry_friction = {}", num(joint.frictionloss));
         }
         t.push('\n');
     }

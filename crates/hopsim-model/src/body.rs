@@ -70,6 +70,10 @@ pub struct Joint {
     /// Armature (rotor inertia reflected through a gear): kg m² or kg, added to the
     /// mass matrix's diagonal at the joint's coordinate (MuJoCo's `armature`).
     pub armature: f64,
+    /// Dry (Coulomb) friction in the joint: the largest torque (N m) or, for a prismatic
+    /// joint, force (N) it transmits before slipping (MuJoCo's `frictionloss`); bounded
+    /// rows of the step's LCP (docs/physics.md §7.5). 0: none.
+    pub dry_friction: f64,
 }
 
 impl Joint {
@@ -87,6 +91,7 @@ impl Joint {
             rest_position: 0.0,
             limits: None,
             armature: 0.0,
+            dry_friction: 0.0,
         }
     }
 

@@ -560,6 +560,13 @@ impl Model {
         }
     }
 
+    /// The joints with dry friction (docs/physics.md §7.5): each as its child body and the
+    /// largest torque (N m) or force (N) the joint transmits before slipping. The joint's
+    /// rate is `wᵀ u` with `w` from [`Model::add_joint_force_to`] at value 1.
+    pub fn dry_frictions(&self) -> &[(usize, f64)] {
+        &self.structure.dry_frictions
+    }
+
     /// Total mass of the bodies that move (fixed bodies excluded), kg.
     pub fn total_mass(&self) -> f64 {
         self.bodies
@@ -938,6 +945,12 @@ fn joint_problem(joint: &Joint) -> Option<&'static str> {
     }
     if !non_negative(joint.armature) {
         return Some("the joint's armature must be finite and non-negative");
+    }
+    if !non_negative(joint.dry_friction) {
+        return Some("the joint's dry friction must be finite and non-negative");
+    }
+    if joint.dry_friction != 0.0 && !joint.has_coordinate() {
+        return Some("dry friction needs a joint that moves (not a fixed body)");
     }
     if joint.armature != 0.0
         && (joint.coordinate == JointCoordinate::Absolute || !joint.has_coordinate())

@@ -5,7 +5,7 @@
 //! reads them at every evaluation and keeps per-state data only.
 
 use crate::contact::DiscOnLine;
-use crate::{JointCoordinate, JointKind, Model, Vec2};
+use crate::{Joint, JointCoordinate, JointKind, Model, Vec2};
 
 /// The constants of one body.
 #[derive(Clone, Copy, Debug)]
@@ -36,6 +36,9 @@ pub(crate) struct Structure {
     /// The bodies whose joint coordinate carries an armature, with it (kg m² or kg): the
     /// mass matrix and the kinetic energy add `armature · rate²` for these only.
     pub armatures: Vec<(usize, f64)>,
+    /// The bodies whose joint has dry friction, with its bound (N m or N; see
+    /// [`Model::dry_frictions`]).
+    pub dry_frictions: Vec<(usize, f64)>,
 }
 
 impl Structure {
@@ -49,6 +52,7 @@ impl Structure {
             constant_weight: None,
             discs_on_lines: Vec::new(),
             armatures: Vec::new(),
+            dry_frictions: Vec::new(),
         }
     }
 
@@ -101,17 +105,24 @@ impl Structure {
             discs_on_lines: (0..model.contacts().len())
                 .map(|i| DiscOnLine::new(model, i))
                 .collect(),
-            armatures: model
-                .bodies()
-                .iter()
-                .enumerate()
-                .filter_map(|(b, body)| {
-                    let joint = body.joint.as_ref()?;
-                    (joint.armature != 0.0 && joint.has_coordinate()).then_some((b, joint.armature))
-                })
-                .collect(),
+            armatures: joints_with(model, |joint| joint.armature),
+            dry_frictions: joints_with(model, |joint| joint.dry_friction),
         }
     }
+}
+
+/// The bodies whose moving joint has a non-zero `value`, with it.
+fn joints_with(model: &Model, value: impl Fn(&Joint) -> f64) -> Vec<(usize, f64)> {
+    model
+        .bodies()
+        .iter()
+        .enumerate()
+        .filter_map(|(b, body)| {
+            let joint = body.joint.as_ref()?;
+            let v = value(joint);
+            (v != 0.0 && joint.has_coordinate()).then_some((b, v))
+        })
+        .collect()
 }
 
 /// The structural sparsity of the Jacobian rows (see [`Model::jacobian_pattern`]) and

@@ -505,6 +505,7 @@ fn read_joint(
         }
     };
     let armature_unit = if prismatic { "kg" } else { "kg m²" };
+    let dry_friction_unit = if prismatic { "N" } else { "N m" };
     let armature = t.f64_or("armature", 0.0, Num::non_negative(armature_unit))?;
     if armature != 0.0 && coordinate == JointCoordinate::Absolute {
         return Err(t.error_at_key(
@@ -558,6 +559,7 @@ fn read_joint(
         rest_position: t.f64_or("rest_position", 0.0, Num::any(position_unit).coordinate())?,
         limits,
         armature,
+        dry_friction: t.f64_or("dry_friction", 0.0, Num::non_negative(dry_friction_unit))?,
     })
 }
 

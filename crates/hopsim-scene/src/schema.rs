@@ -58,6 +58,10 @@ const KEYS: &[(&str, KeyInfo)] = &[
         info("joint armature", "kg m² or kg", "kg m² or kg"),
     ),
     (
+        "bodies.*.dry_friction",
+        info("joint dry friction", "N m or N", "N m or N"),
+    ),
+    (
         "simulation.gravity_x",
         info("gravity along x", "m/s²", "m/s²"),
     ),

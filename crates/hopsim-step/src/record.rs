@@ -134,7 +134,7 @@ pub struct LimitRecord {
 /// Running energy account of a simulation (docs/physics.md §6), J.
 ///
 /// `kinetic + potential + spring - initial = actuator_work + contact_work + limit_work +
-/// lock_work + loop_work + damping_work + projection + balance_error`, the works being those of the step impulses over the
+/// lock_work + loop_work + damping_work + dry_friction_work + projection + balance_error`, the works being those of the step impulses over the
 /// step's mean velocity `(u^A + u^E)/2`; the error is the midpoint scheme's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
@@ -156,6 +156,8 @@ pub struct EnergyLedger {
     pub lock_work: f64,
     /// Cumulative work of joint and spring damping (≤ 0).
     pub damping_work: f64,
+    /// Cumulative work of the joints' dry friction (docs/physics.md §7.5; 0 without).
+    pub dry_friction_work: f64,
     /// Cumulative work of the loop joints' percussions (docs/physics.md §8.2; 0 without
     /// loops).
     pub loop_work: f64,
@@ -173,7 +175,12 @@ impl EnergyLedger {
     /// Energy dissipated so far by impacts, friction, joint stops, locks, loop joints and
     /// damping (≥ 0 when passive).
     pub fn dissipated(&self) -> f64 {
-        -(self.contact_work + self.limit_work + self.lock_work + self.damping_work) - self.loop_work
+        -(self.contact_work
+            + self.limit_work
+            + self.lock_work
+            + self.damping_work
+            + self.dry_friction_work
+            + self.loop_work)
     }
 
     /// What the account fails to explain: `ΔE - W_actuators + dissipated - projection`.
@@ -192,6 +199,7 @@ impl EnergyLedger {
             self.limit_work,
             self.lock_work,
             self.damping_work,
+            self.dry_friction_work,
             self.loop_work,
             self.projection,
         ]

@@ -11,10 +11,12 @@ use hopsim_model::{ContactGeometry, Kinematics, Model};
 use nalgebra::{DMatrix, DVector};
 
 mod actuators;
+mod dry_friction;
 mod layout;
 mod loops;
 mod pairs;
 
+use dry_friction::DryFriction;
 use layout::{at, Layout};
 pub use loops::LOOP_TOLERANCE;
 use loops::{LoopProjection, DEPENDENT_LOOP_ROWS};
@@ -208,6 +210,8 @@ pub struct Stepper {
     /// whether the locks fix its velocity in this step.
     limit_mobility: Vec<f64>,
     limit_locked: Vec<bool>,
+    /// The joints with dry friction and their rows (docs/physics.md §7.5).
+    dry: DryFriction,
     lcp_a: DMatrix<f64>,
     lcp_b: DVector<f64>,
     lcp: LemkeSolver,
@@ -239,9 +243,11 @@ impl Stepper {
         // `M + Δt/2 C` is diagonal only without dampers.
         let diagonal = model.mass_matrix_is_diagonal() && dampers == 0;
         // The largest problem: every contact and every stop closed.
+        let dry = DryFriction::new(model, settings.dt);
         let most = Layout {
             contacts: k,
             limits,
+            frictions: dry.count(),
         };
         lcp.reserve(most.size());
         Self {
@@ -303,6 +309,7 @@ impl Stepper {
             lambda_limit: vector(limits),
             limit_mobility: vector(limits),
             limit_locked: vec![false; limits],
+            dry,
             lcp_a: DMatrix::zeros(most.size(), most.size()),
             lcp_b: DVector::zeros(most.size()),
             record: StepRecord {
@@ -476,6 +483,20 @@ impl Stepper {
         Ok(&self.record)
     }
 
+    /// [`Stepper::step`] through the stages compiled for any `n`: the generic path that the
+    /// copies for `n` = 3…6 are checked against, bit for bit
+    /// (crates/hopsim-gen/tests/sized_steps.rs).
+    #[doc(hidden)]
+    pub fn step_generic(
+        &mut self,
+        model: &Model,
+        state: &mut State,
+        actuation: &Actuation,
+    ) -> Result<&StepRecord, StepError> {
+        self.step_sized::<0>(model, state, actuation)?;
+        Ok(&self.record)
+    }
+
     /// [`Stepper::step`] for `n = N` coordinates (`N = 0`: any `n`).
     fn step_sized<const N: usize>(
         &mut self,
@@ -518,6 +539,7 @@ impl Stepper {
         Layout {
             contacts: k,
             limits: self.active_limits.len(),
+            frictions: self.dry.count(),
         }
     }
 
@@ -711,6 +733,9 @@ impl Stepper {
             self.limit_gap[r] = gap;
             self.active_limits.push(j);
         }
+        if self.dry.count() > 0 {
+            self.dry_friction_rows::<N>(model);
+        }
         self.active.len()
     }
 
@@ -743,12 +768,14 @@ impl Stepper {
             *s = *f;
         }
         let (normals, rest) = rest.split_at_mut(k * n);
-        let (tangents, limits) = rest.split_at_mut(k * n);
+        let (tangents, rest) = rest.split_at_mut(k * n);
+        let (limits, frictions) = rest.split_at_mut(layout.limits * n);
         // Row by row: rows of a length known when compiling are copied in place.
         for (to, from) in [
             (normals, &self.w_n[..k * n]),
             (tangents, &self.w_t[..k * n]),
             (limits, &self.w_limit[..layout.limits * n]),
+            (frictions, &self.dry.w[..layout.frictions * n]),
         ] {
             for (to, from) in to.chunks_exact_mut(n).zip(from.chunks_exact(n)) {
                 to.copy_from_slice(from);
@@ -758,7 +785,7 @@ impl Stepper {
         if self.locks.count > 0 {
             // The stops' mobility `w G w` before the locks, to tell a stop whose velocity
             // they fix (see `limit_rows`).
-            let stops = &solved[layout.solved_limit(0) * n..];
+            let stops = &solved[layout.solved_limit(0) * n..layout.solved_friction(0) * n];
             for (r, row) in stops.chunks_exact(n).enumerate() {
                 self.limit_mobility[r] = dot(&self.w_limit[r * n..(r + 1) * n], row);
             }
@@ -792,10 +819,10 @@ impl Stepper {
         let n = dof::<N>(self.n);
         let layout = self.layout(self.active.len());
         let (k, l) = (layout.contacts, layout.limits);
-        if k + l == 0 {
+        let size = layout.size();
+        if size == 0 {
             return Ok(());
         }
-        let size = layout.size();
         // A (column-major, leading dimension `ld`) and b of docs/physics.md §4.3.
         let ld = self.lcp_a.nrows();
         // Every entry of the `size × size` block is written once below (the zeros too), so
@@ -839,6 +866,9 @@ impl Stepper {
         if l > 0 {
             self.limit_rows::<N>(model, layout);
         }
+        if layout.frictions > 0 {
+            self.dry_friction_lcp_rows::<N>(layout, scale);
+        }
         let (a, b) = (
             self.lcp_a.view((0, 0), (size, size)),
             self.lcp_b.rows(0, size),
@@ -879,6 +909,7 @@ impl Stepper {
             for r in 0..l {
                 self.lambda_limit[r] = z[layout.limit(r)].max(0.0);
             }
+            self.dry.percussions(layout, z.as_slice());
             return Ok(());
         }
         self.stats.failures += 1;
@@ -925,6 +956,9 @@ impl Stepper {
                 model.material(self.active[c]).friction
             };
             scale = scale.max(g_nn).max(g_tt);
+        }
+        if layout.frictions > 0 {
+            scale = scale.max(self.dry_friction_scale::<N>(layout));
         }
         if scale.is_finite() && scale > 0.0 {
             scale
@@ -991,6 +1025,11 @@ impl Stepper {
     ) -> Result<(), StepError> {
         let n = self.n;
         let (k, l) = (layout.contacts, layout.limits);
+        if layout.frictions > 0 {
+            // The joints' friction goes with the contacts' (their percussions are 0).
+            self.shift_rows_by_bounds(layout, 1.0);
+            self.dry.lambda.fill(0.0);
+        }
         // Normal-type rows: the contacts' `w_N`, then the stops' `w_J`; `G w` of each.
         let normal = |i: usize| {
             if i < k {
@@ -1071,6 +1110,9 @@ impl Stepper {
         for r in 0..l {
             let stop = row(&self.solved, n, layout.solved_limit(r));
             axpy(self.lambda_limit[r], stop, &mut self.u_end);
+        }
+        if layout.frictions > 0 {
+            self.add_dry_friction_velocity::<N>(layout);
         }
         self.record.contacts.clear();
         self.record.pair_contacts.clear();
@@ -1229,6 +1271,9 @@ impl Stepper {
         for r in 0..l {
             energy.limit_work += self.lambda_limit[r] * dot(row(&self.w_limit, n, r), mean);
         }
+        if self.dry.count() > 0 {
+            self.record.energy.dry_friction_work += self.dry_friction_work::<N>();
+        }
         self.record.locks.clear();
         if self.locks.count > 0 {
             self.equality_works::<N>(actuation);
@@ -1326,6 +1371,9 @@ impl Stepper {
             }
             for r in 0..l {
                 rhs -= self.w_limit[r * n + i] * self.lambda_limit[r];
+            }
+            for (j, lambda) in self.dry.lambda.iter().enumerate() {
+                rhs -= self.dry.w[j * n + i] * lambda;
             }
             self.force[i] = rhs;
         }

@@ -150,10 +150,11 @@ fn stepping_robbit_with_contacts_torque_and_a_brake_does_not_allocate() {
     );
 }
 
-/// A point-foot hopper on a sprung prismatic leg with a stop (docs/physics.md §7): touchdowns,
-/// stance and the stop's impacts at lift-off in the same LCP allocate nothing.
+/// A point-foot hopper on a sprung prismatic leg with a stop and dry friction in the leg
+/// (docs/physics.md §7.2, §7.5): touchdowns, stance and the stop's impacts at lift-off in
+/// the same LCP allocate nothing.
 #[test]
-fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
+fn prismatic_leg_with_a_joint_stop_and_dry_friction_does_not_allocate() {
     use hopsim_model::{Body, Joint, JointKind, JointLimits, ShapeInstance};
     let leg = Joint {
         kind: JointKind::Prismatic {
@@ -161,6 +162,7 @@ fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
         },
         stiffness: 1000.0,
         rest_position: 0.5,
+        dry_friction: 0.5,
         limits: Some(JointLimits {
             lower: 0.1,
             upper: 0.5,
@@ -207,6 +209,7 @@ fn prismatic_leg_with_a_joint_stop_does_not_allocate() {
         contacts && stops,
         "contacts {contacts}, stop impacts {stops}"
     );
+    assert!(stepper.record().energy.dry_friction_work < 0.0);
 }
 
 /// Contacts between bodies (docs/physics.md §7): three discs and a box dropped onto a fixed
