@@ -20,6 +20,7 @@ const TEST_PACKAGES: &[&str] = &[
     "pandas",
     "matplotlib",
     "nbclient",
+    "gymnasium",
     "nbformat",
     "ipykernel",
 ];
