@@ -775,11 +775,13 @@ impl Stepper {
             (normals, &self.w_n[..k * n]),
             (tangents, &self.w_t[..k * n]),
             (limits, &self.w_limit[..layout.limits * n]),
-            (frictions, &self.dry.w[..layout.frictions * n]),
         ] {
             for (to, from) in to.chunks_exact_mut(n).zip(from.chunks_exact(n)) {
                 to.copy_from_slice(from);
             }
+        }
+        if layout.frictions > 0 {
+            frictions.copy_from_slice(&self.dry.w[..layout.frictions * n]);
         }
         self.factor.solve_sized::<N>(solved);
         if self.locks.count > 0 {
@@ -800,7 +802,9 @@ impl Stepper {
         {
             *ut = a + g;
         }
-        self.locks.project(&mut self.u_tilde);
+        if self.locks.count > 0 {
+            self.locks.project(&mut self.u_tilde);
+        }
     }
 
     /// Stage 6, docs/physics.md §4.1 step 3: builds and solves the frictional contact LCP of
