@@ -1,7 +1,10 @@
 //! [`CsvRecorder`]: the recorded frames as one CSV row each, the events in a second file.
 
 use crate::frame::FrameLayout;
-use crate::{AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo, Stop};
+use crate::{
+    ActuatorInfo, AtomicFile, EnergySample, Event, Frame, RecordError, Recorder, RecordingInfo,
+    Stop,
+};
 use hopsim_io::{csv_field, partial_path};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -16,7 +19,8 @@ pub struct CsvRecorder {
 }
 
 /// The frame columns: `t_s, step, <q>_<unit>, <q>_dot_<unit>, com_x_m, com_y_m, energies,
-/// actuator_torque_Nm` (or `actuator_force_N` for a prismatic joint's motor).
+/// actuator_torque_Nm` (or `actuator_force_N` for a prismatic joint's motor), then for each
+/// actuator of the model `control_<name>`, and `effort_<name>_Nm` (or `_N`).
 pub fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     let mut columns = vec!["t_s".to_string(), "step".to_string()];
     let units = || {
@@ -30,18 +34,23 @@ pub fn frame_columns(info: &RecordingInfo) -> Vec<String> {
     columns.extend(["com_x_m", "com_y_m"].map(String::from));
     columns.extend(EnergySample::NAMES.map(|name| format!("{name}_J")));
     columns.push(info.actuator.column().into());
+    columns.extend(info.actuators.iter().map(ActuatorInfo::control_column));
+    columns.extend(info.actuators.iter().map(ActuatorInfo::effort_column));
     columns
 }
 
 /// The numbers of `frame` after `t_s` and `step`, in the order of [`frame_columns`]: `q`,
-/// `u`, the centre of mass, the energies and the actuator torque.
+/// `u`, the centre of mass, the energies, the actuator torque, the actuators' controls and
+/// efforts.
 pub fn frame_values<'a>(frame: &Frame<'a>) -> impl Iterator<Item = f64> + 'a {
     let (q, u) = (frame.q, frame.u);
     let rest = frame
         .com
         .into_iter()
         .chain(frame.energy.values())
-        .chain([frame.actuator_torque]);
+        .chain([frame.actuator_torque])
+        .chain(frame.controls.iter().copied())
+        .chain(frame.actuator_efforts.iter().copied());
     q.iter().chain(u).copied().chain(rest)
 }
 

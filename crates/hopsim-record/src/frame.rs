@@ -121,6 +121,35 @@ pub struct RecordingInfo {
     /// What the recorded actuator value is: a torque (N m) or a force (N, a prismatic
     /// joint's motor).
     pub actuator: ActuatorQuantity,
+    /// The model's actuators (docs/physics.md §7.4), in the order of their controls
+    /// ([`Frame::controls`], [`Frame::actuator_efforts`]); empty without.
+    pub actuators: Vec<ActuatorInfo>,
+}
+
+/// An actuator as recordings name it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActuatorInfo {
+    /// Its name.
+    pub name: String,
+    /// What it exerts at its joint: a torque (revolute joint, N m) or a force (prismatic
+    /// joint, N).
+    pub effort: ActuatorQuantity,
+}
+
+impl ActuatorInfo {
+    /// The column of its control: `control_<name>`.
+    pub fn control_column(&self) -> String {
+        format!("control_{}", self.name)
+    }
+
+    /// The column of its effort: `effort_<name>_Nm` or `effort_<name>_N`.
+    pub fn effort_column(&self) -> String {
+        let unit = match self.effort {
+            ActuatorQuantity::Torque => "Nm",
+            ActuatorQuantity::Force => "N",
+        };
+        format!("effort_{}_{unit}", self.name)
+    }
 }
 
 /// The kind of the recorded actuator value ([`Frame::actuator_torque`]).
@@ -272,6 +301,12 @@ pub struct Frame<'a> {
     pub energy: EnergySample,
     /// Actuator torque commanded this step, N m (0 when idle).
     pub actuator_torque: f64,
+    /// The controls of the model's actuators in this step (one per
+    /// [`RecordingInfo::actuators`]).
+    pub controls: &'a [f64],
+    /// The torque (N m) or force (N) each actuator exerts at its joint, `gear · force`
+    /// at the frame's state (MuJoCo's `qfrc_actuator` on that joint).
+    pub actuator_efforts: &'a [f64],
 }
 
 /// What kind of discrete event happened. Serialised (MCAP `/hopsim/events`) with a `kind`
@@ -378,6 +413,7 @@ pub(crate) struct FrameLayout {
     contacts: usize,
     springs: usize,
     shapes: usize,
+    actuators: usize,
 }
 
 impl FrameLayout {
@@ -388,6 +424,7 @@ impl FrameLayout {
             contacts: info.contacts.len(),
             springs: info.springs.len(),
             shapes: info.bodies.iter().map(|b| b.shapes.len()).sum(),
+            actuators: info.actuators.len(),
         }
     }
 
@@ -399,6 +436,12 @@ impl FrameLayout {
             ("bodies", frame.bodies.len(), self.bodies),
             ("springs", frame.springs.len(), self.springs),
             ("shapes_active", frame.shapes_active.len(), self.shapes),
+            ("controls", frame.controls.len(), self.actuators),
+            (
+                "actuator_efforts",
+                frame.actuator_efforts.len(),
+                self.actuators,
+            ),
         ];
         for (what, found, expected) in counts {
             if found != expected {

@@ -24,8 +24,8 @@ pub use csv::{frame_columns, frame_values, CsvRecorder};
 pub use foxglove::{body_frame, SCENE_TOPIC as FOXGLOVE_SCENE_TOPIC};
 pub use foxglove::{TRANSFORMS_TOPIC as FOXGLOVE_TRANSFORMS_TOPIC, WORLD_FRAME};
 pub use frame::{
-    recorded_time, ActuatorQuantity, BodyInfo, BodyPose, ContactSample, EnergySample, Event,
-    EventKind, Frame, JointInfo, JointInfoKind, RecordingInfo, TIME_DECIMALS,
+    recorded_time, ActuatorInfo, ActuatorQuantity, BodyInfo, BodyPose, ContactSample, EnergySample,
+    Event, EventKind, Frame, JointInfo, JointInfoKind, RecordingInfo, TIME_DECIMALS,
 };
 pub use geometry::CoordinateUnit;
 pub use hopsim_io::{partial_path, write_atomically, AtomicFile};

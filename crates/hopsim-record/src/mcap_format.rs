@@ -156,9 +156,36 @@ fn state_schema(info: &RecordingInfo) -> Value {
         ]),
     );
     let bodies = properties(info.bodies.iter().map(|b| (b.name.as_str(), pose.clone())));
+    let controls = properties(info.actuators.iter().map(|a| {
+        (
+            a.name.as_str(),
+            number("the actuator's control in this step"),
+        )
+    }));
+    let efforts = properties(info.actuators.iter().map(|a| {
+        let what = match a.effort {
+            ActuatorQuantity::Torque => "torque the actuator exerts at its joint, N m",
+            ActuatorQuantity::Force => "force the actuator exerts along its joint, N",
+        };
+        (a.name.as_str(), number(what))
+    }));
+    let actuators = [
+        (
+            "controls",
+            object("the actuators' controls, by name", controls),
+        ),
+        (
+            "actuator_efforts",
+            object(
+                "the actuators' efforts at their joints (gear times force), by name",
+                efforts,
+            ),
+        ),
+    ];
+    let actuators = actuators.into_iter().filter(|_| !info.actuators.is_empty());
     object(
         "state of the robot at a recorded step",
-        properties(stamp().into_iter().chain([
+        properties(stamp().into_iter().chain(actuators).chain([
             ("q", object("generalised coordinates q", coordinates(false))),
             (
                 "u",
@@ -384,17 +411,40 @@ pub(crate) struct StateMessage<'a> {
     actuator_torque: Option<f64>,
     #[serde(rename = "actuator_force_N", skip_serializing_if = "Option::is_none")]
     actuator_force: Option<f64>,
+    /// The model's actuators' controls and efforts, by name (absent without actuators).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    controls: Option<Named<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    actuator_efforts: Option<Named<'a>>,
+}
+
+/// The names a `/hopsim/state` message uses.
+#[derive(Clone, Copy)]
+pub(crate) struct StateNames<'a> {
+    pub coordinates: &'a [String],
+    pub bodies: &'a [String],
+    pub actuators: &'a [String],
 }
 
 impl<'a> StateMessage<'a> {
     pub(crate) fn new(
         frame: &'a Frame<'a>,
-        coordinates: &'a [String],
-        bodies: &'a [String],
+        names: StateNames<'a>,
         actuator: ActuatorQuantity,
     ) -> Self {
+        let StateNames {
+            coordinates,
+            bodies,
+            actuators,
+        } = names;
         let value = Some(frame.actuator_torque);
         let force = actuator == ActuatorQuantity::Force;
+        let by_actuator = |values: &'a [f64]| {
+            (!actuators.is_empty()).then_some(Named {
+                names: actuators,
+                values,
+            })
+        };
         Self {
             t_s: frame.t,
             step: frame.step,
@@ -413,6 +463,8 @@ impl<'a> StateMessage<'a> {
             },
             actuator_torque: value.filter(|_| !force),
             actuator_force: value.filter(|_| force),
+            controls: by_actuator(frame.controls),
+            actuator_efforts: by_actuator(frame.actuator_efforts),
         }
     }
 }

@@ -6,7 +6,7 @@ use crate::foxglove::{
 };
 use crate::frame::FrameLayout;
 use crate::mcap_format::{
-    metadata, Channel, ContactsMessage, EnergyMessage, StateMessage, MESSAGE_ENCODING,
+    metadata, Channel, ContactsMessage, EnergyMessage, StateMessage, StateNames, MESSAGE_ENCODING,
     METADATA_NAME, SCENE_MEDIA_TYPE, SCHEMA_ENCODING, STOP_METADATA_NAME,
 };
 use crate::{
@@ -30,6 +30,7 @@ pub struct McapRecorder {
     layout: FrameLayout,
     coordinates: Vec<String>,
     bodies: Vec<String>,
+    actuators: Vec<String>,
     contacts: Vec<String>,
     actuator: ActuatorQuantity,
 }
@@ -125,6 +126,7 @@ impl McapRecorder {
             layout: FrameLayout::of(info),
             coordinates: info.coordinates.clone(),
             bodies: info.bodies.iter().map(|b| b.name.clone()).collect(),
+            actuators: info.actuators.iter().map(|a| a.name.clone()).collect(),
             contacts: info.contacts.clone(),
             actuator: info.actuator,
         })
@@ -173,7 +175,12 @@ impl Recorder for McapRecorder {
         self.layout
             .check(frame)
             .map_err(|m| RecordError::format(&out.path, m))?;
-        let state = StateMessage::new(frame, &self.coordinates, &self.bodies, self.actuator);
+        let names = StateNames {
+            coordinates: &self.coordinates,
+            bodies: &self.bodies,
+            actuators: &self.actuators,
+        };
+        let state = StateMessage::new(frame, names, self.actuator);
         out.write(Channel::State, frame.t, &state)?;
         let contacts = ContactsMessage {
             frame,

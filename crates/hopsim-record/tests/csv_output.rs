@@ -20,12 +20,12 @@ fn csv_has_one_row_per_frame_with_units_in_the_header() {
         lines.next().unwrap(),
         "t_s,step,x_m,y_m,phi_rad,psi_rad,x_dot_m_s,y_dot_m_s,phi_dot_rad_s,psi_dot_rad_s,\
          com_x_m,com_y_m,kinetic_J,potential_J,spring_J,actuator_work_J,dissipated_J,\
-         balance_error_J,actuator_torque_Nm"
+         balance_error_J,actuator_torque_Nm,control_flywheel_motor,effort_flywheel_motor_Nm"
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), frames.len());
     for (row, f) in rows.iter().zip(&frames) {
-        assert_eq!(row.len(), 19);
+        assert_eq!(row.len(), 21);
         let number = |i: usize| row[i].parse::<f64>().unwrap();
         assert_eq!(number(0), f.t);
         assert_eq!(row[1], f.step.to_string());
@@ -38,6 +38,8 @@ fn csv_has_one_row_per_frame_with_units_in_the_header() {
             e.dissipated,
             e.balance_error,
             f.actuator_torque,
+            f.controls[0],
+            f.actuator_efforts[0],
         ]);
         for (i, x) in expected.enumerate() {
             assert_eq!(number(i + 2).to_bits(), x.to_bits(), "column {}", i + 2);

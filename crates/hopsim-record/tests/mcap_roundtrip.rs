@@ -139,6 +139,8 @@ fn every_message_reads_back_as_written() {
                              "angle_rad": f.bodies[1].angle},
             },
             "actuator_torque_Nm": f.actuator_torque,
+            "controls": {"flywheel_motor": f.controls[0]},
+            "actuator_efforts": {"flywheel_motor": f.actuator_efforts[0]},
         });
         assert_eq!(*v, expected);
     }

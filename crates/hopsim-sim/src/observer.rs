@@ -22,6 +22,9 @@ pub struct StepView<'a> {
     /// Motor torque commanded in this step, N m (the first torque command; without one, the
     /// first joint force: N on a prismatic joint, docs/physics.md §7).
     pub torque: f64,
+    /// The controls of the model's actuators in this step (docs/physics.md §7.4; empty
+    /// without actuators).
+    pub controls: &'a [f64],
 }
 
 /// Something that watches a run: recorders, the summary, golden-trace collectors.

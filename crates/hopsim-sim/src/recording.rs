@@ -5,9 +5,9 @@ use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
 use hopsim_model::JointKind;
 use hopsim_record::{
-    recorded_time, ActuatorQuantity, BodyInfo, BodyPose, ContactSample, CoordinateUnit,
-    EnergySample, Event, EventKind, Frame, JointInfo, JointInfoKind, RecorderSet, RecordingInfo,
-    Stop,
+    recorded_time, ActuatorInfo, ActuatorQuantity, BodyInfo, BodyPose, ContactSample,
+    CoordinateUnit, EnergySample, Event, EventKind, Frame, JointInfo, JointInfoKind, RecorderSet,
+    RecordingInfo, Stop,
 };
 use std::path::PathBuf;
 
@@ -56,6 +56,17 @@ pub fn recording_info(scene: &Setup) -> RecordingInfo {
             ControllerConfig::Pulse(c) if c.drives_force(&scene.model) => ActuatorQuantity::Force,
             _ => ActuatorQuantity::Torque,
         },
+        actuators: model
+            .actuators()
+            .iter()
+            .map(|a| ActuatorInfo {
+                name: a.name.clone(),
+                effort: match model.bodies()[a.body].joint.as_ref().map(|j| j.kind) {
+                    Some(JointKind::Prismatic { .. }) => ActuatorQuantity::Force,
+                    _ => ActuatorQuantity::Torque,
+                },
+            })
+            .collect(),
     }
 }
 
@@ -104,6 +115,8 @@ pub struct RecordingObserver {
     contacts: Vec<ContactSample>,
     springs: Vec<([f64; 2], [f64; 2])>,
     shapes_active: Vec<bool>,
+    /// The actuators' efforts at their joints (`gear · force`).
+    efforts: Vec<f64>,
     /// Per joint stop: whether it carried load in the previous step (a hit is a stop that
     /// starts carrying load).
     limit_loaded: Vec<bool>,
@@ -130,6 +143,7 @@ impl RecordingObserver {
             contacts: Vec::new(),
             springs: Vec::new(),
             shapes_active: Vec::new(),
+            efforts: Vec::new(),
             limit_loaded: vec![false; scene.model.limits().len()],
             limit_loaded_now: vec![false; scene.model.limits().len()],
             limit_events: Vec::new(),
@@ -256,6 +270,11 @@ impl RecordingObserver {
         }));
         self.shapes_active.clear();
         self.shapes_active.extend_from_slice(view.shapes_active);
+        self.efforts.clear();
+        self.efforts
+            .extend(view.controls.iter().enumerate().map(|(a, &control)| {
+                model.actuators()[a].gear * model.actuator_force(ws, a, control).force
+            }));
         let com = model.center_of_mass(ws);
         let e = view.record.energy;
         self.recorders.frame(&Frame {
@@ -270,6 +289,8 @@ impl RecordingObserver {
             shapes_active: &self.shapes_active,
             energy: EnergySample::from_ledger(&e),
             actuator_torque: view.torque,
+            controls: view.controls,
+            actuator_efforts: &self.efforts,
         })?;
         Ok(())
     }

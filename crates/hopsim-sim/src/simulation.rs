@@ -486,6 +486,7 @@ impl Simulation {
                 (None, Some(f)) => f.force,
                 (None, None) => 0.0,
             },
+            controls: &self.actuation.controls,
         }
     }
 }

@@ -294,3 +294,64 @@ fn a_prismatic_leg_is_described_and_drawn_along_its_axis() {
         "no rail in {body}"
     );
 }
+
+/// The actuators' controls and efforts are recorded by name (docs/recording.md): in the
+/// servo arm's MCAP, each recorded step's controls are the scene's signals at the step's
+/// midpoint (docs/physics.md §7.4; a 0.8 rad sine at 0.5 Hz, a 4 rad/s pulse for 0.3 s of every second), and each
+/// effort is MuJoCo's force law at the recorded state, written out here: the shoulder's
+/// `k_p (u − q) − k_v q̇` and the elbow's `k_v (u − q̇)`, clamped to ±25 and ±3 N m.
+#[test]
+fn actuator_controls_and_efforts_are_recorded_by_name() {
+    let (scene, dir, mut recorder) = mcap_run("classic/servo-arm.toml", "2.0");
+    hopsim_sim::run(&scene, &mut recorder).unwrap();
+    recorder.finish().unwrap();
+    let columns = hopsim_record::frame_columns(&recording_info(&scene));
+    assert!(columns.ends_with(&[
+        "control_shoulder".to_string(),
+        "control_elbow".into(),
+        "effort_shoulder_Nm".into(),
+        "effort_elbow_Nm".into()
+    ]));
+    let bytes = std::fs::read(dir.path().join("run.mcap")).unwrap();
+    let dt = scene.settings.dt;
+    let mut checked = 0;
+    for message in mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(Result::unwrap)
+    {
+        if message.channel.topic != hopsim_record::STATE_TOPIC {
+            continue;
+        }
+        let m: serde_json::Value = serde_json::from_slice(&message.data).unwrap();
+        let number = |v: &serde_json::Value| v.as_f64().unwrap();
+        let (t, step) = (number(&m["t_s"]), m["step"].as_u64().unwrap());
+        if step == 0 {
+            continue;
+        }
+        let mid = t - 0.5 * dt;
+        let shoulder = 0.8 * (std::f64::consts::PI * mid).sin();
+        let elbow = if mid.rem_euclid(1.0) < 0.3 { 4.0 } else { 0.0 };
+        let controls = &m["controls"];
+        assert!(
+            (number(&controls["shoulder"]) - shoulder).abs() < 1e-9,
+            "{m}"
+        );
+        assert_eq!(number(&controls["elbow"]), elbow, "{m}");
+        let (q, u) = (&m["q"], &m["u"]);
+        let shoulder_effort = (60.0 * (shoulder - number(&q["shoulder"]))
+            - 4.0 * number(&u["shoulder"]))
+        .clamp(-25.0, 25.0);
+        let elbow_effort = (2.0 * (elbow - number(&u["elbow"]))).clamp(-3.0, 3.0);
+        let efforts = &m["actuator_efforts"];
+        assert!(
+            (number(&efforts["shoulder"]) - shoulder_effort).abs() < 1e-9,
+            "{m}"
+        );
+        assert!(
+            (number(&efforts["elbow"]) - elbow_effort).abs() < 1e-9,
+            "{m}"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 100, "{checked} state messages checked");
+}

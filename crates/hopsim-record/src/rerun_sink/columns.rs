@@ -26,6 +26,8 @@ pub(super) const PLOT_POSITION: &str = "plots/position_m";
 pub(super) const PLOT_ANGLE: &str = "plots/angle_rad";
 pub(super) const PLOT_ENERGY: &str = "plots/energy_J";
 pub(super) const PLOT_BALANCE: &str = "plots/energy_balance_error_J";
+pub(super) const PLOT_CONTROLS: &str = "plots/controls";
+pub(super) const PLOT_EFFORTS: &str = "plots/actuator_efforts";
 /// Entity of the actuator's time series.
 pub(super) fn actuator_plot(actuator: ActuatorQuantity) -> &'static str {
     match actuator {
@@ -125,6 +127,9 @@ pub(super) enum Quantity {
     /// of the contacts' entity, with their force arrows ([`Columns::push`]).
     Impulses,
     Torque,
+    /// The model's actuators' controls, and their efforts at their joints.
+    Controls,
+    Efforts,
 }
 
 /// One time-series entity and its buffered rows (`names.len()` values per frame).
@@ -158,6 +163,10 @@ impl Series {
             Quantity::BalanceError => track.push(t, step, [single(frame.energy.balance_error)]),
             Quantity::Impulses => {}
             Quantity::Torque => track.push(t, step, [single(frame.actuator_torque)]),
+            Quantity::Controls => track.push(t, step, frame.controls.iter().map(|&c| single(c))),
+            Quantity::Efforts => {
+                track.push(t, step, frame.actuator_efforts.iter().map(|&e| single(e)));
+            }
         }
     }
 }
@@ -216,6 +225,23 @@ pub(super) fn scene_series(info: &RecordingInfo) -> Vec<Series> {
         let torque = vec![info.actuator.words().to_string()];
         let entity = actuator_plot(info.actuator);
         all.push(series(entity, Quantity::Torque, torque, 0));
+    }
+    if !info.actuators.is_empty() {
+        let controls = info.actuators.iter().map(|a| a.name.clone()).collect();
+        all.push(series(PLOT_CONTROLS, Quantity::Controls, controls, 0));
+        let efforts = info.actuators.iter().map(|a| {
+            let unit = match a.effort {
+                ActuatorQuantity::Torque => "N m",
+                ActuatorQuantity::Force => "N",
+            };
+            format!("{}, {unit}", a.name)
+        });
+        all.push(series(
+            PLOT_EFFORTS,
+            Quantity::Efforts,
+            efforts.collect(),
+            0,
+        ));
     }
     all
 }
@@ -453,6 +479,8 @@ mod tests {
             shapes_active: &[],
             energy: EnergySample::default(),
             actuator_torque: 0.0,
+            controls: &[],
+            actuator_efforts: &[],
         }
     }
 

@@ -9,7 +9,9 @@
 //! to a blueprint store of their own and sent ahead of the recording's data, as the SDK
 //! sends its own.
 
-use super::columns::{Series, PLOT_ANGLE, PLOT_BALANCE, PLOT_ENERGY, PLOT_POSITION};
+use super::columns::{
+    Series, PLOT_ANGLE, PLOT_BALANCE, PLOT_CONTROLS, PLOT_EFFORTS, PLOT_ENERGY, PLOT_POSITION,
+};
 use super::drawing::{CONTACTS_ENTITY, ROBOT_VIEW_ENTITY};
 use super::{EVENTS_ENTITY, TIME_TIMELINE};
 use rerun::blueprint::components::{
@@ -39,6 +41,8 @@ pub(super) fn panel_title(entity: &str) -> &'static str {
         PLOT_BALANCE => "energy balance error, J",
         CONTACTS_ENTITY => "contact impulses Λ_N, Λ_T, N s",
         "plots/actuator_force_N" => "actuator force, N",
+        PLOT_CONTROLS => "actuator controls",
+        PLOT_EFFORTS => "actuator efforts: torque, N m, or force, N",
         _ => "actuator torque, N m",
     }
 }

@@ -335,6 +335,7 @@ mod tests {
             weight_newtons: 0.0,
             actuated: false,
             actuator: ActuatorQuantity::Torque,
+            actuators: Vec::new(),
         }
     }
 
@@ -354,6 +355,8 @@ mod tests {
             shapes_active: &[],
             energy: EnergySample::default(),
             actuator_torque: 0.0,
+            controls: &[],
+            actuator_efforts: &[],
         };
         rec.frame(&frame(0.0)).unwrap();
         let event = |t: f64, kind: EventKind| Event { t, step: 0, kind };

@@ -61,6 +61,10 @@ pub fn info() -> RecordingInfo {
         weight_newtons: 1.405 * 9.81,
         actuated: true,
         actuator: hopsim_record::ActuatorQuantity::Torque,
+        actuators: vec![hopsim_record::ActuatorInfo {
+            name: "flywheel_motor".into(),
+            effort: hopsim_record::ActuatorQuantity::Torque,
+        }],
     }
 }
 
@@ -78,6 +82,8 @@ pub struct OwnedFrame {
     pub shapes_active: Vec<bool>,
     pub energy: EnergySample,
     pub actuator_torque: f64,
+    pub controls: Vec<f64>,
+    pub actuator_efforts: Vec<f64>,
 }
 
 impl OwnedFrame {
@@ -94,6 +100,8 @@ impl OwnedFrame {
             shapes_active: &self.shapes_active,
             energy: self.energy,
             actuator_torque: self.actuator_torque,
+            controls: &self.controls,
+            actuator_efforts: &self.actuator_efforts,
         }
     }
 }
@@ -160,6 +168,8 @@ pub fn frames(count: u64) -> Vec<OwnedFrame> {
                     balance_error: -1e-12,
                 },
                 actuator_torque: if k % 4 < 2 { 0.3 } else { 0.0 },
+                controls: vec![(0.1 * k as f64).sin()],
+                actuator_efforts: vec![0.4 * (0.1 * k as f64).sin() - 1.0 / 3.0],
             }
         })
         .collect()
