@@ -139,6 +139,7 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
         weight_newtons: 9.81,
         actuated: false,
         actuator: hopsim_record::ActuatorQuantity::Torque,
+        actuators: vec![],
     };
     let mut recorder = Box::new(McapRecorder::create(path, &info).unwrap());
     for step in (1..=50).step_by(5) {
@@ -169,6 +170,8 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
             shapes_active: &[],
             energy: EnergySample::default(),
             actuator_torque: 0.0,
+            controls: &[],
+            actuator_efforts: &[],
         };
         recorder.frame(&frame).unwrap();
     }
