@@ -37,6 +37,15 @@ fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
 }
 
+/// Copy `i`'s time and state equal `sim`'s, bit for bit.
+fn assert_copy_is(batch: &Batch, i: usize, sim: &Simulation) {
+    let (state, nq) = (sim.state(), batch.nq());
+    assert_eq!(batch.t()[i].to_bits(), state.t.to_bits(), "copy {i}");
+    let rows = i * nq..(i + 1) * nq;
+    assert_eq!(bits(&batch.q()[rows.clone()]), bits(state.q.as_slice()));
+    assert_eq!(bits(&batch.u()[rows]), bits(state.u.as_slice()));
+}
+
 /// `blocks` blocks of `steps` steps of 64 Robbits in a batch on `threads` threads and one
 /// by one in single simulations: every copy's time, state and contact flag equal.
 fn compare(threads: usize, blocks: usize, steps: usize) {
@@ -60,15 +69,7 @@ fn compare(threads: usize, blocks: usize, steps: usize) {
             for _ in 0..steps {
                 sim.step(&mut ()).unwrap();
             }
-            let state = sim.state();
-            assert_eq!(
-                batch.t()[i].to_bits(),
-                state.t.to_bits(),
-                "copy {i} block {b}"
-            );
-            let rows = i * nq..(i + 1) * nq;
-            assert_eq!(bits(&batch.q()[rows.clone()]), bits(state.q.as_slice()));
-            assert_eq!(bits(&batch.u()[rows]), bits(state.u.as_slice()));
+            assert_copy_is(&batch, i, sim);
             assert_eq!(batch.in_contact()[i], sim.in_contact());
             touched += usize::from(sim.in_contact());
         }
@@ -184,7 +185,7 @@ fn copies_of_different_sizes_or_none_are_refused() {
 
 /// Copy `i`'s brake (disc–flywheel) in block `b`: engaged in alternate blocks of odd copies.
 fn braked(i: usize, b: usize) -> bool {
-    i % 2 == 1 && (b + i / 2) % 2 == 0
+    i % 2 == 1 && (b + i / 2).is_multiple_of(2)
 }
 
 #[test]
@@ -219,12 +220,7 @@ fn brakes_engaged_per_copy_equal_single_simulations_stepped_with_the_lock() {
                     false => sim.step(&mut ()).unwrap(),
                 }
             }
-            let rows = i * nq..(i + 1) * nq;
-            assert_eq!(
-                bits(&batch.q()[rows.clone()]),
-                bits(sim.state().q.as_slice())
-            );
-            assert_eq!(bits(&batch.u()[rows]), bits(sim.state().u.as_slice()));
+            assert_copy_is(&batch, i, sim);
             if braked(i, b) {
                 // The lock holds at the end of every braked step: θ̇_flywheel = θ̇_disc.
                 let u = &batch.u()[i * nq..];
@@ -287,7 +283,6 @@ fn shape_switches_per_copy_equal_single_simulations_stepped_with_the_switch() {
     assert_eq!(batch.switches(), &[cane]);
     let mut singles: Vec<Simulation> = (0..n).map(|_| Simulation::new(&scene)).collect();
     let none = hopsim_step::Actuation::default();
-    let nq = batch.nq();
     let mut switched = 0;
     for b in 0..blocks {
         for i in 0..n {
@@ -311,12 +306,7 @@ fn shape_switches_per_copy_equal_single_simulations_stepped_with_the_switch() {
             }
             assert_eq!(sim.shapes_active()[cane], on);
             assert_eq!(batch.simulation(i).unwrap().shapes_active()[cane], on);
-            let rows = i * nq..(i + 1) * nq;
-            assert_eq!(
-                bits(&batch.q()[rows.clone()]),
-                bits(sim.state().q.as_slice())
-            );
-            assert_eq!(bits(&batch.u()[rows]), bits(sim.state().u.as_slice()));
+            assert_copy_is(&batch, i, sim);
         }
     }
     assert!(switched >= n, "{switched}");

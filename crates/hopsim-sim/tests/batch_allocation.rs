@@ -31,7 +31,7 @@ fn allocations(threads: usize) -> usize {
             *c = 1e-3 * (((i + b) % 5) as f64 - 2.0);
         }
         for (i, e) in batch.engaged_mut().iter_mut().enumerate() {
-            *e = (i + b) % 3 == 0;
+            *e = (i + b).is_multiple_of(3);
         }
         batch.step(10);
     };

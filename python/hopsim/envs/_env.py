@@ -121,7 +121,7 @@ class Rollout:
         np.copyto(self.q_before, self.batch.q)
         self.batch.step(self.config.frame_skip, controls=self.actions[:, :nu])
         task = self.config.task
-        terminated = task.terminated(self.view) | self.batch.done
+        terminated = np.logical_or(task.terminated(self.view), self.batch.done)
         return task.observe(self.view), task.reward(self.view), terminated
 
     def observe(self) -> np.ndarray:

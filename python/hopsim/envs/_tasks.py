@@ -80,14 +80,19 @@ class StateTask(Task):
         self._reward, self._terminated = reward, terminated
         self._observation, self._size = observation, observation_size
         self.exclude, self.angles = list(exclude), list(angles)
+        self._known: Tuple[Sequence[str], np.ndarray, np.ndarray] | None = None
 
-    def _columns(self, coordinates: Sequence[str]) -> Tuple[list[int], list[int]]:
-        """The coordinates observed as they are and as angles (indices)."""
+    def _columns(self, coordinates: Sequence[str]) -> Tuple[np.ndarray, np.ndarray]:
+        """The coordinates observed as they are and as angles (indices), found once."""
+        if self._known is not None and self._known[0] is coordinates:
+            return self._known[1], self._known[2]
         unknown = [c for c in self.exclude + self.angles if c not in coordinates]
         if unknown:
             raise ValueError(f"no coordinates {unknown}; the coordinates are {list(coordinates)}")
         kept = [i for i, c in enumerate(coordinates) if c not in self.exclude + self.angles]
-        return kept, [coordinates.index(c) for c in self.angles]
+        angles = [list(coordinates).index(c) for c in self.angles]
+        self._known = (coordinates, np.array(kept, dtype=np.intp), np.array(angles, dtype=np.intp))
+        return self._known[1], self._known[2]
 
     def observation_size(self, coordinates: Sequence[str]) -> int:
         if self._size is not None:
@@ -101,8 +106,15 @@ class StateTask(Task):
         if not self.exclude and not self.angles:
             return np.concatenate((v.q, v.u, v.in_contact[:, None]), axis=1)
         kept, angles = self._columns(v.coordinates)
+        n, nk, na, nq = len(v.q), len(kept), len(angles), v.q.shape[1]
+        out = np.empty((n, nk + 2 * na + nq + 1))
+        out[:, :nk] = v.q[:, kept]
         a = v.q[:, angles]
-        return np.concatenate((v.q[:, kept], np.sin(a), np.cos(a), v.u, v.in_contact[:, None]), axis=1)
+        np.sin(a, out=out[:, nk : nk + na])
+        np.cos(a, out=out[:, nk + na : nk + 2 * na])
+        out[:, nk + 2 * na : -1] = v.u
+        out[:, -1] = v.in_contact
+        return out
 
     def reward(self, v: StepView) -> np.ndarray:
         return np.asarray(self._reward(v), dtype=np.float64)
