@@ -2,7 +2,7 @@
 //! environment under the cargo target directory, `pip install ./python` (the wheel built
 //! with its own cargo target directory, so that it never waits on this build's lock), the
 //! pytest suite `python/tests` (against this build's `hopsim` binary) and the notebook
-//! `examples/robbit.ipynb` executed with nbclient, on a machine without system fonts (an
+//! notebooks `examples/robbit.ipynb` and `examples/learning.ipynb` executed with nbclient, on a machine without system fonts (an
 //! empty fontconfig, a fresh matplotlib cache): matplotlib draws with the fonts it bundles.
 //!
 //! Needs `python3` (≥ 3.9) with `venv` and a reachable package index. Without them the
@@ -23,6 +23,8 @@ const TEST_PACKAGES: &[&str] = &[
     "gymnasium",
     "nbformat",
     "ipykernel",
+    // hopsim.envs; MuJoCo only as the oracle of the Hopper environment's definitions.
+    "gymnasium[mujoco]",
 ];
 
 fn python_required() -> bool {
@@ -109,7 +111,14 @@ fn python_package_installs_and_passes_its_tests_and_notebook() {
         .current_dir(repo));
     assert_eq!(pytest, Some(true), "the Python tests failed");
 
-    let notebook = repo.join("examples").join("robbit.ipynb");
+    for notebook in ["robbit.ipynb", "learning.ipynb"] {
+        run_notebook(&venv_python, repo, &repo.join("examples").join(notebook));
+    }
+}
+
+/// Executes `notebook` with nbclient in the virtual environment of `python`, without
+/// system fonts.
+fn run_notebook(python: &Path, repo: &Path, notebook: &Path) {
     let execute = format!(
         "import nbformat, nbclient\n\
          nb = nbformat.read({path:?}, as_version=4)\n\
@@ -129,10 +138,10 @@ fn python_package_installs_and_passes_its_tests_and_notebook() {
         "<?xml version=\"1.0\"?>\n<fontconfig></fontconfig>\n",
     )
     .expect("write an empty fontconfig");
-    let ran = run(Command::new(&venv_python)
+    let ran = run(Command::new(python)
         .args(["-c", &execute])
         .env("FONTCONFIG_FILE", &fontconfig)
         .env("MPLCONFIGDIR", fontless.path())
         .current_dir(repo));
-    assert_eq!(ran, Some(true), "examples/robbit.ipynb failed to run");
+    assert_eq!(ran, Some(true), "{} failed to run", notebook.display());
 }

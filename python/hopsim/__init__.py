@@ -16,6 +16,9 @@ wraps the Rust crates of hopsim (it re-implements nothing): the numbers are thos
 * :class:`Batch`: copies of a scene (or :class:`Model`) stepped together on Rust threads,
   their states, controls, contact flags and done mask in numpy arrays filled in place.
 * :mod:`hopsim.lcp`: ``solve(M, q)`` by Lemke's method with its certificate.
+* :mod:`hopsim.envs` (with gymnasium installed): Gymnasium environments of any scene with
+  actuators, ``hopsim/Robbit-v0``, ``hopsim/CaneBot-v0`` and ``hopsim/Hopper-v0``
+  (Hopper-v5's definitions), and their vector environment on :class:`Batch`.
 * :func:`read_mcap`: a recording written by ``hopsim run --mcap`` as arrays.
 * :func:`sweep`: a scene over a grid of parameters on all local cores, or on a Dask
   cluster in chunks, as the table of ``hopsim sweep``.
@@ -153,10 +156,35 @@ class Batch(_hopsim.Batch):
     of every copy that is not done; a copy whose step fails is marked ``done`` with its
     message in ``error(i)`` while the others go on. ``reset(i=None)`` restarts a copy (or
     all) at the scene's initial state; ``set_state(i, q, u, t=None)`` restarts one at a
-    state, checked as :meth:`Simulation.set_state` checks.
+    state, checked as :meth:`Simulation.set_state` checks (``restore=True``: its values
+    only, for a state a run reached).
+
+    ``brakes=[(body, other), …]`` and ``switches=[shape, …]`` (indices) give the batch
+    brakes and switchable shapes driven per copy by the bool arrays ``brakes`` (n, nb),
+    whether each brake locks ``θ̇_body = θ̇_other`` in the copy's steps, and ``switches``
+    (n, ns), whether each shape is on; a step that brakes or switches takes them in place
+    of the scene's controller, as ``Simulation.step(actuation=…)`` does.
     """
 
-    def __new__(cls, scene: Scene | Model, n: int, threads: int | None = None) -> "Batch":
+    def __new__(
+        cls,
+        scene: Scene | Model,
+        n: int,
+        threads: int | None = None,
+        brakes: list[tuple[int, int]] | None = None,
+        switches: list[int] | None = None,
+    ) -> "Batch":
         if isinstance(scene, Model):
             scene = scene.scene()
-        return super().__new__(cls, scene, n, threads)
+        return super().__new__(cls, scene, n, threads, brakes, switches)
+
+
+# Gymnasium's environments (hopsim.envs) are registered when gymnasium is installed.
+try:
+    import gymnasium as _gymnasium  # noqa: F401
+except ImportError:
+    pass
+else:
+    from . import envs
+
+    __all__.append("envs")

@@ -34,7 +34,9 @@ fn batch_error(e: BatchError) -> PyErr {
 /// the same start and controls bit for bit, whatever the thread count. `t` (n,), `q`, `u`
 /// (n, nq), `in_contact` and `done` (n,) are numpy arrays owned by the batch, filled in
 /// place by every step and reset (read-only: use `set_state`); `controls` (n, nu) is
-/// written by the caller (in place, or by assignment) and read before each step.
+/// written by the caller (in place, or by assignment) and read before each step, as is
+/// `brakes` (n, len(brake_pairs)), which brakes are engaged in each copy, and `switches`
+/// (n, len(switch_shapes)), which switchable shapes are to be active.
 #[pyclass(name = "Batch", module = "hopsim", subclass)]
 pub struct PyBatch {
     /// `Batch` holds the copies' controllers (`Send`, not `Sync`); methods taking `&mut
@@ -48,6 +50,8 @@ pub struct PyBatch {
     controls: Py<PyArray2<f64>>,
     in_contact: Py<PyArray1<bool>>,
     done: Py<PyArray1<bool>>,
+    brakes: Py<PyArray2<bool>>,
+    switches: Py<PyArray2<bool>>,
 }
 
 /// `n × width` zeros, writeable by Python or not.
@@ -98,28 +102,52 @@ impl PyBatch {
         fill(self.in_contact.bind(py), batch.in_contact());
         fill(self.done.bind(py), batch.done());
     }
+
+    /// The engaged brakes and the shapes' flags as Python left them, into the batch.
+    fn take_commands(&mut self, py: Python<'_>) {
+        let (brakes, switches) = (self.brakes.bind(py).clone(), self.switches.bind(py).clone());
+        let (brakes, switches) = (brakes.readonly(), switches.readonly());
+        let batch = self.batch();
+        let copy = |to: &mut [bool], from: numpy::ndarray::ArrayView2<'_, bool>| {
+            to.iter_mut()
+                .zip(from.iter())
+                .for_each(|(to, from)| *to = *from)
+        };
+        copy(batch.engaged_mut(), brakes.as_array());
+        copy(batch.active_mut(), switches.as_array());
+    }
 }
 
 #[pymethods]
 impl PyBatch {
     #[new]
-    #[pyo3(signature = (scene, n, threads = None))]
+    #[pyo3(signature = (scene, n, threads = None, brakes = None, switches = None))]
     fn new(
         py: Python<'_>,
         scene: Bound<'_, PyScene>,
         n: usize,
         threads: Option<usize>,
+        brakes: Option<Vec<(usize, usize)>>,
+        switches: Option<Vec<usize>>,
     ) -> PyResult<Self> {
         let shared = scene.get().scene.clone();
         let threads = threads.unwrap_or_else(|| {
             let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
             cores.min(n.max(1))
         });
+        let (brakes, switches) = (brakes.unwrap_or_default(), switches.unwrap_or_default());
         let batch = guard(py, "Batch", || {
-            py.detach(|| Batch::new(&shared.setup, n, threads))
-                .map_err(batch_error)
+            let mut batch = py
+                .detach(|| Batch::new(&shared.setup, n, threads))
+                .map_err(batch_error)?;
+            batch
+                .set_commands(&brakes, &switches)
+                .map_err(batch_error)?;
+            Ok(batch)
         })?;
         let (nq, nu) = (batch.nq(), batch.nu());
+        let engaged = PyArray2::<bool>::zeros(py, [n, brakes.len()], false).unbind();
+        let active = PyArray2::<bool>::zeros(py, [n, switches.len()], false).unbind();
         let flags = |writeable| -> PyResult<Py<PyArray1<bool>>> {
             let a = PyArray1::<bool>::zeros(py, n, false);
             read_only(a.as_any(), writeable)?;
@@ -137,6 +165,8 @@ impl PyBatch {
             controls: matrix(py, n, nu, true)?,
             in_contact: flags(false)?,
             done: flags(false)?,
+            brakes: engaged,
+            switches: active,
         };
         this.publish(py);
         Ok(this)
@@ -181,6 +211,7 @@ impl PyBatch {
         if let Some(c) = controls {
             self.set_controls(py, c)?;
         }
+        self.take_commands(py);
         let own = self.controls.bind(py).clone();
         let batch = self.batch();
         // The controls as Python left them (row-major, as the batch's).
@@ -259,6 +290,45 @@ impl PyBatch {
         Ok(())
     }
 
+    /// The brakes `(body, other)` given at construction: each locks `θ̇_body = θ̇_other`
+    /// at the end of every step of a copy in which it is engaged (docs/physics.md §4.4).
+    #[getter]
+    fn brake_pairs(&self) -> Vec<(usize, usize)> {
+        self.batch
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .brakes()
+            .to_vec()
+    }
+
+    /// Which brakes are engaged in each copy, (n, len(brake_pairs)) bool, written by the
+    /// caller and read before each step (held over its steps). A copy's step with an
+    /// engaged brake takes the brake's lock in place of the scene's controller, which
+    /// does not act in it (as `Simulation.step(actuation=…)` with `lock`).
+    #[getter]
+    fn brakes(&self, py: Python<'_>) -> Py<PyArray2<bool>> {
+        self.brakes.clone_ref(py)
+    }
+
+    /// The switchable shapes given at construction (shape indices, `scene.shapes`).
+    #[getter]
+    fn switch_shapes(&self) -> Vec<usize> {
+        self.batch
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .switches()
+            .to_vec()
+    }
+
+    /// Whether each copy's switchable shapes are to be active, (n, len(switch_shapes))
+    /// bool, written by the caller and read before each step: a shape whose flag differs
+    /// from its state is switched at the start of the copy's next step, which then takes
+    /// the switch in place of the scene's controller (as `Simulation.step(actuation=…)`).
+    #[getter]
+    fn switches(&self, py: Python<'_>) -> Py<PyArray2<bool>> {
+        self.switches.clone_ref(py)
+    }
+
     /// Whether the world carried a normal percussion in each copy's last step: (n,).
     #[getter]
     fn in_contact(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
@@ -301,8 +371,10 @@ impl PyBatch {
     }
 
     /// Restarts copy `i` at `q`, `u` and time `t` (default: the copy's time), checked as
-    /// `Simulation.set_state` checks (`ValueError`); a done copy is reset first.
-    #[pyo3(signature = (i, q, u, t = None))]
+    /// `Simulation.set_state` checks (`ValueError`); with `restore=True` only the values
+    /// are checked (a state a run reached, contacts and stops slightly penetrated). A done
+    /// copy is reset first.
+    #[pyo3(signature = (i, q, u, t = None, restore = false))]
     fn set_state(
         &mut self,
         py: Python<'_>,
@@ -310,6 +382,7 @@ impl PyBatch {
         q: PyArrayLike1<'_, f64, AllowTypeChange>,
         u: PyArrayLike1<'_, f64, AllowTypeChange>,
         t: Option<f64>,
+        restore: bool,
     ) -> PyResult<()> {
         let (q, u) = (q.as_array(), u.as_array());
         let batch = self.batch();
@@ -328,7 +401,11 @@ impl PyBatch {
             u: DVector::from_iterator(u.len(), u.iter().copied()),
         };
         guard(py, "Batch.set_state", || {
-            batch.set_state(i, state).map_err(batch_error)
+            match restore {
+                true => batch.restore_state(i, state),
+                false => batch.set_state(i, state),
+            }
+            .map_err(batch_error)
         })?;
         self.publish(py);
         Ok(())

@@ -6,9 +6,13 @@
 //! fixed pool; each thread sets its copies' controls from the batch's array, steps those
 //! that are not done and writes their rows of the batch's flat arrays. A copy never sees another, so copy `i` equals a
 //! single [`Simulation`] with the same inputs bit for bit, whatever the thread count.
+//! Brakes and shape switches ([`Batch::set_commands`]) are velocity locks between two
+//! bodies (docs/physics.md §4.4) and contact shapes (a cane) engaged per copy from masks, as
+//! a caller's [`Simulation::step_with`].
 
 use crate::{RunError, Setup, Simulation, StateProblem};
-use hopsim_step::State;
+use hopsim_control::ControlEvent;
+use hopsim_step::{Actuation, ActuationError, State};
 use std::sync::Arc;
 
 /// Why a batch cannot be built.
@@ -35,12 +39,26 @@ pub enum BatchError {
     NoSuchCopy { copy: usize, copies: usize },
     #[error("copy {copy}: {problem}")]
     State { copy: usize, problem: StateProblem },
+    #[error("brakes and switches: {0}")]
+    Brake(ActuationError),
 }
 
-/// One copy: its simulation and the error that stopped it.
+/// The brakes and switchable shapes of a batch ([`Batch::set_commands`]).
+#[derive(Clone, Copy)]
+struct Commands<'a> {
+    brakes: &'a [(usize, usize)],
+    switches: &'a [usize],
+}
+
+/// One copy: its simulation, the error that stopped it, its engaged brakes and the shape
+/// switches of its next step.
 struct Lane {
     sim: Simulation,
     error: Option<RunError>,
+    /// The locks of the brakes engaged in this copy's steps (buffers reused: no
+    /// allocation once grown to the batch's brakes and switches).
+    locks: Actuation,
+    switching: Vec<ControlEvent>,
 }
 
 impl Lane {
@@ -48,20 +66,58 @@ impl Lane {
         let mut sim = Simulation::shared(setup);
         // Observers of a batch see no energies; the state does not depend on the account.
         sim.set_ledger(false);
-        Self { sim, error: None }
+        Self {
+            sim,
+            error: None,
+            locks: Actuation::default(),
+            switching: Vec::new(),
+        }
     }
 
-    /// `steps` steps under `controls`, or fewer if one fails (the error is kept; later
-    /// calls do nothing).
-    fn advance(&mut self, steps: usize, controls: &[f64]) {
+    /// `steps` steps under `controls` with the brakes whose flag in `engaged` is set and
+    /// the switchable shapes active as `active` says, or fewer if one fails (the error is
+    /// kept; later calls do nothing). A step with an engaged brake or a shape to switch is
+    /// [`Simulation::step_with`] its locks and switches: the setup's controller and
+    /// control signals do not act in it.
+    fn advance(
+        &mut self,
+        steps: usize,
+        controls: &[f64],
+        commands: Commands<'_>,
+        engaged: &[bool],
+        active: &[bool],
+    ) {
         if self.error.is_none() {
             if let Err(e) = self.sim.set_controls(controls) {
                 self.error = Some(e.into());
             }
         }
+        self.locks.locks.clear();
+        self.locks.locks.extend(
+            commands
+                .brakes
+                .iter()
+                .zip(engaged)
+                .filter_map(|(&lock, &on)| on.then_some(lock)),
+        );
+        self.switching.clear();
+        for (&shape, &on) in commands.switches.iter().zip(active) {
+            if self.sim.shapes_active()[shape] != on {
+                self.switching
+                    .push(ControlEvent::ShapeSwitch { shape, active: on });
+            }
+        }
         if self.error.is_none() {
-            for _ in 0..steps {
-                if let Err(e) = self.sim.step(&mut ()) {
+            for k in 0..steps {
+                let events = match k {
+                    0 => self.switching.as_slice(),
+                    _ => &[],
+                };
+                let stepped = match self.locks.locks.is_empty() && events.is_empty() {
+                    true => self.sim.step(&mut ()),
+                    false => self.sim.step_with(&self.locks, events, &mut ()),
+                };
+                if let Err(e) = stepped {
                     self.error = Some(e);
                     break;
                 }
@@ -79,6 +135,9 @@ struct Part<'a> {
     controls: &'a mut [f64],
     in_contact: &'a mut [bool],
     done: &'a mut [bool],
+    commands: Commands<'a>,
+    engaged: &'a [bool],
+    active: &'a [bool],
     nq: usize,
     nu: usize,
 }
@@ -87,6 +146,7 @@ impl Part<'_> {
     /// Copies `..mid` and `mid..`.
     fn split(self, mid: usize) -> (Self, Self) {
         let (nq, nu) = (self.nq, self.nu);
+        let (nb, ns) = (self.commands.brakes.len(), self.commands.switches.len());
         let (lanes, lanes_b) = self.lanes.split_at_mut(mid);
         let (t, t_b) = self.t.split_at_mut(mid);
         let (q, q_b) = self.q.split_at_mut(mid * nq);
@@ -94,6 +154,9 @@ impl Part<'_> {
         let (controls, controls_b) = self.controls.split_at_mut(mid * nu);
         let (in_contact, in_contact_b) = self.in_contact.split_at_mut(mid);
         let (done, done_b) = self.done.split_at_mut(mid);
+        let (engaged, engaged_b) = self.engaged.split_at(mid * nb);
+        let (active, active_b) = self.active.split_at(mid * ns);
+        let commands = self.commands;
         let a = Part {
             lanes,
             t,
@@ -102,6 +165,9 @@ impl Part<'_> {
             controls,
             in_contact,
             done,
+            commands,
+            engaged,
+            active,
             nq,
             nu,
         };
@@ -113,6 +179,9 @@ impl Part<'_> {
             controls: controls_b,
             in_contact: in_contact_b,
             done: done_b,
+            commands,
+            engaged: engaged_b,
+            active: active_b,
             nq,
             nu,
         };
@@ -130,8 +199,15 @@ impl Part<'_> {
             return;
         }
         let nu = self.nu;
+        let (nb, ns) = (self.commands.brakes.len(), self.commands.switches.len());
         for i in 0..n {
-            self.lanes[i].advance(steps, &self.controls[i * nu..(i + 1) * nu]);
+            self.lanes[i].advance(
+                steps,
+                &self.controls[i * nu..(i + 1) * nu],
+                self.commands,
+                &self.engaged[i * nb..(i + 1) * nb],
+                &self.active[i * ns..(i + 1) * ns],
+            );
             self.gather(i);
         }
     }
@@ -167,6 +243,12 @@ pub struct Batch {
     controls: Vec<f64>,
     in_contact: Vec<bool>,
     done: Vec<bool>,
+    /// The brakes `(body, other)`, and which are engaged in each copy (`n × brakes`).
+    brakes: Vec<(usize, usize)>,
+    engaged: Vec<bool>,
+    /// The switchable shapes, and which are to be active in each copy (`n × switches`).
+    switches: Vec<usize>,
+    active: Vec<bool>,
     /// `None` for one thread (the copies are stepped on the caller's thread).
     pool: Option<rayon::ThreadPool>,
     threads: usize,
@@ -227,6 +309,10 @@ impl Batch {
             controls: vec![0.0; n * nu],
             in_contact: vec![false; n],
             done: vec![false; n],
+            brakes: Vec::new(),
+            engaged: Vec::new(),
+            switches: Vec::new(),
+            active: Vec::new(),
             pool,
             threads,
         };
@@ -310,6 +396,74 @@ impl Batch {
         self.lanes.get(i).map(|l| &l.sim)
     }
 
+    /// Sets the batch's brakes and switchable shapes. A brake `(body, other)` locks
+    /// `θ̇_body = θ̇_other` at the end of every step of a copy in which it is engaged
+    /// (docs/physics.md §4.4), as the lock of a caller's [`Actuation`]; a switch is a
+    /// contact shape (a cane) switched on or off as a copy's flag in
+    /// [`Batch::active_mut`] says, at the start of its next step. Every brake starts
+    /// disengaged and every flag off. A body or shape out of range, or a brake of a body
+    /// on itself, is [`BatchError::Brake`].
+    pub fn set_commands(
+        &mut self,
+        brakes: &[(usize, usize)],
+        switches: &[usize],
+    ) -> Result<(), BatchError> {
+        let model = &self.setups[0].model;
+        let check = Actuation {
+            locks: brakes.to_vec(),
+            ..Actuation::default()
+        };
+        check.validate(model).map_err(BatchError::Brake)?;
+        for &shape in switches {
+            ControlEvent::ShapeSwitch {
+                shape,
+                active: false,
+            }
+            .validate(model)
+            .map_err(BatchError::Brake)?;
+        }
+        self.brakes = check.locks;
+        self.engaged = vec![false; self.len() * brakes.len()];
+        self.switches = switches.to_vec();
+        self.active = vec![false; self.len() * switches.len()];
+        Ok(())
+    }
+
+    /// The switchable shapes ([`Batch::set_commands`]).
+    pub fn switches(&self) -> &[usize] {
+        &self.switches
+    }
+
+    /// Whether each copy's switchable shapes are to be active in its next steps,
+    /// `n × switches` row-major: a shape whose flag differs from its state is switched
+    /// at the start of the copy's next [`Batch::step`] (a step without its controller).
+    pub fn active_mut(&mut self) -> &mut [bool] {
+        &mut self.active
+    }
+
+    /// The flags of [`Batch::active_mut`].
+    pub fn active(&self) -> &[bool] {
+        &self.active
+    }
+
+    /// The brakes `(body, other)` ([`Batch::set_commands`]).
+    pub fn brakes(&self) -> &[(usize, usize)] {
+        &self.brakes
+    }
+
+    /// Which brakes are engaged in each copy's next steps, `n × brakes` row-major (held
+    /// over a call of [`Batch::step`]). A step with an engaged brake is the copy's
+    /// [`Simulation::step_with`] its locks: the setup's controller and control signals do
+    /// not act in it.
+    pub fn engaged_mut(&mut self) -> &mut [bool] {
+        &mut self.engaged
+    }
+
+    /// Which brakes are engaged, `n × brakes` row-major.
+    pub fn engaged(&self) -> &[bool] {
+        &self.engaged
+    }
+
     /// Takes `steps` steps of every copy that is not done, under the controls of
     /// [`Batch::controls_mut`] (held over the steps). A copy whose step fails is marked
     /// done with its error; the others go on.
@@ -343,14 +497,32 @@ impl Batch {
     /// Restarts copy `i` at `state`, checked as [`Simulation::set_state`] does; a done
     /// copy is reset first. On an error nothing changes.
     pub fn set_state(&mut self, i: usize, state: State) -> Result<(), BatchError> {
+        self.restart(i, state, Simulation::set_state)
+    }
+
+    /// [`Batch::set_state`] for a state a simulation of the model reached (contacts and
+    /// stops slightly penetrated): only its values are checked, as
+    /// [`Simulation::restore_state`] does.
+    pub fn restore_state(&mut self, i: usize, state: State) -> Result<(), BatchError> {
+        self.restart(i, state, Simulation::restore_state)
+    }
+
+    /// Copy `i` restarted at `state` by `restart` (a done copy anew first); on an error
+    /// nothing changes.
+    fn restart(
+        &mut self,
+        i: usize,
+        state: State,
+        restart: fn(&mut Simulation, State) -> Result<(), StateProblem>,
+    ) -> Result<(), BatchError> {
         self.check(i)?;
         let problem = |problem| BatchError::State { copy: i, problem };
         if self.lanes[i].error.is_some() {
             let mut lane = Lane::new(self.setups[i].clone());
-            lane.sim.set_state(state).map_err(problem)?;
+            restart(&mut lane.sim, state).map_err(problem)?;
             self.lanes[i] = lane;
         } else {
-            self.lanes[i].sim.set_state(state).map_err(problem)?;
+            restart(&mut self.lanes[i].sim, state).map_err(problem)?;
         }
         self.gather(i);
         Ok(())
@@ -376,6 +548,12 @@ impl Batch {
             controls: &mut self.controls,
             in_contact: &mut self.in_contact,
             done: &mut self.done,
+            commands: Commands {
+                brakes: &self.brakes,
+                switches: &self.switches,
+            },
+            engaged: &self.engaged,
+            active: &self.active,
             nq: self.nq,
             nu: self.nu,
         }

@@ -37,6 +37,15 @@ fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
 }
 
+/// Copy `i`'s time and state equal `sim`'s, bit for bit.
+fn assert_copy_is(batch: &Batch, i: usize, sim: &Simulation) {
+    let (state, nq) = (sim.state(), batch.nq());
+    assert_eq!(batch.t()[i].to_bits(), state.t.to_bits(), "copy {i}");
+    let rows = i * nq..(i + 1) * nq;
+    assert_eq!(bits(&batch.q()[rows.clone()]), bits(state.q.as_slice()));
+    assert_eq!(bits(&batch.u()[rows]), bits(state.u.as_slice()));
+}
+
 /// `blocks` blocks of `steps` steps of 64 Robbits in a batch on `threads` threads and one
 /// by one in single simulations: every copy's time, state and contact flag equal.
 fn compare(threads: usize, blocks: usize, steps: usize) {
@@ -60,15 +69,7 @@ fn compare(threads: usize, blocks: usize, steps: usize) {
             for _ in 0..steps {
                 sim.step(&mut ()).unwrap();
             }
-            let state = sim.state();
-            assert_eq!(
-                batch.t()[i].to_bits(),
-                state.t.to_bits(),
-                "copy {i} block {b}"
-            );
-            let rows = i * nq..(i + 1) * nq;
-            assert_eq!(bits(&batch.q()[rows.clone()]), bits(state.q.as_slice()));
-            assert_eq!(bits(&batch.u()[rows]), bits(state.u.as_slice()));
+            assert_copy_is(&batch, i, sim);
             assert_eq!(batch.in_contact()[i], sim.in_contact());
             touched += usize::from(sim.in_contact());
         }
@@ -180,4 +181,133 @@ fn copies_of_different_sizes_or_none_are_refused() {
         Batch::of_setups(vec![robbit], 0),
         Err(BatchError::NoThreads)
     ));
+}
+
+/// Copy `i`'s brake (disc–flywheel) in block `b`: engaged in alternate blocks of odd copies.
+fn braked(i: usize, b: usize) -> bool {
+    i % 2 == 1 && (b + i / 2).is_multiple_of(2)
+}
+
+#[test]
+fn brakes_engaged_per_copy_equal_single_simulations_stepped_with_the_lock() {
+    let scene = robbit();
+    let (n, blocks, steps) = (16, 6, 40);
+    let mut batch = Batch::new(&scene, n, 2).unwrap();
+    batch.set_commands(&[(0, 1)], &[]).unwrap();
+    assert_eq!(batch.brakes(), &[(0, 1)]);
+    assert_eq!(batch.engaged(), vec![false; n].as_slice());
+    let mut singles: Vec<Simulation> = (0..n).map(|_| Simulation::new(&scene)).collect();
+    for (i, sim) in singles.iter_mut().enumerate() {
+        batch.set_state(i, start(&scene, i)).unwrap();
+        sim.set_state(start(&scene, i)).unwrap();
+    }
+    let lock = hopsim_step::Actuation {
+        locks: vec![(0, 1)],
+        ..Default::default()
+    };
+    let nq = batch.nq();
+    for b in 0..blocks {
+        for i in 0..n {
+            batch.controls_mut()[i] = control(i, b);
+            batch.engaged_mut()[i] = braked(i, b);
+        }
+        batch.step(steps);
+        for (i, sim) in singles.iter_mut().enumerate() {
+            sim.set_controls(&[control(i, b)]).unwrap();
+            for _ in 0..steps {
+                match braked(i, b) {
+                    true => sim.step_with(&lock, &[], &mut ()).unwrap(),
+                    false => sim.step(&mut ()).unwrap(),
+                }
+            }
+            assert_copy_is(&batch, i, sim);
+            if braked(i, b) {
+                // The lock holds at the end of every braked step: θ̇_flywheel = θ̇_disc.
+                let u = &batch.u()[i * nq..];
+                assert!(
+                    (u[3] - u[2]).abs() <= 1e-9 * (1.0 + u[2].abs()),
+                    "copy {i}: {u:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn brakes_and_switches_the_model_lacks_are_refused() {
+    let mut batch = Batch::new(&robbit(), 2, 1).unwrap();
+    assert!(matches!(
+        batch.set_commands(&[(0, 7)], &[]),
+        Err(BatchError::Brake(_))
+    ));
+    assert!(matches!(
+        batch.set_commands(&[(1, 1)], &[]),
+        Err(BatchError::Brake(_))
+    ));
+    assert!(matches!(
+        batch.set_commands(&[], &[3]),
+        Err(BatchError::Brake(_))
+    ));
+    assert!(batch.brakes().is_empty());
+}
+
+#[test]
+fn restore_state_accepts_a_penetrated_state_that_set_state_refuses() {
+    let scene = robbit();
+    let mut batch = Batch::new(&scene, 2, 1).unwrap();
+    let mut state = scene.initial.clone();
+    state.q[1] -= 1e-3; // the disc 1 mm in the ground, as a step in load leaves it
+    assert!(matches!(
+        batch.set_state(1, state.clone()),
+        Err(BatchError::State { copy: 1, .. })
+    ));
+    batch.restore_state(1, state.clone()).unwrap();
+    assert_eq!(batch.q()[4 + 1], state.q[1]);
+    // Values are still checked.
+    state.q[0] = f64::NAN;
+    assert!(batch.restore_state(1, state).is_err());
+}
+
+#[test]
+fn shape_switches_per_copy_equal_single_simulations_stepped_with_the_switch() {
+    // CaneBot without its controller (which would retract the cane at every step).
+    let mut scene = hopsim_scene::load(&common::repo("scenes/canebot.toml"), &[])
+        .unwrap()
+        .setup
+        .clone();
+    scene.controller = hopsim_control::ControllerConfig::Passive;
+    let cane = scene.switchable[0];
+    let (n, blocks, steps) = (8, 6, 300);
+    let mut batch = Batch::new(&scene, n, 2).unwrap();
+    batch.set_commands(&[], &[cane]).unwrap();
+    assert_eq!(batch.switches(), &[cane]);
+    let mut singles: Vec<Simulation> = (0..n).map(|_| Simulation::new(&scene)).collect();
+    let none = hopsim_step::Actuation::default();
+    let mut switched = 0;
+    for b in 0..blocks {
+        for i in 0..n {
+            batch.active_mut()[i] = braked(i, b);
+        }
+        batch.step(steps);
+        for (i, sim) in singles.iter_mut().enumerate() {
+            let on = braked(i, b);
+            if sim.shapes_active()[cane] != on {
+                switched += 1;
+                let switch = hopsim_control::ControlEvent::ShapeSwitch {
+                    shape: cane,
+                    active: on,
+                };
+                sim.step_with(&none, &[switch], &mut ()).unwrap();
+            } else {
+                sim.step(&mut ()).unwrap();
+            }
+            for _ in 1..steps {
+                sim.step(&mut ()).unwrap();
+            }
+            assert_eq!(sim.shapes_active()[cane], on);
+            assert_eq!(batch.simulation(i).unwrap().shapes_active()[cane], on);
+            assert_copy_is(&batch, i, sim);
+        }
+    }
+    assert!(switched >= n, "{switched}");
 }

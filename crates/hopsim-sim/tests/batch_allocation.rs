@@ -1,7 +1,7 @@
 //! A batch step allocates nothing on one thread, and on two only rayon's queue of jobs
 //! sent into its pool (a block per 63 jobs): counted by a global allocator on the calling
-//! thread, 32 Robbits at rest, their motors under changing controls, in stance without
-//! events. (The copies' steps, the same on the pool's threads, are those counted at one
+//! thread, 32 Robbits at rest, their motors under changing controls and their brakes
+//! engaged in turns, in stance without events. (The copies' steps, the same on the pool's threads, are those counted at one
 //! thread; `rayon::join` keeps its jobs on the stack.)
 
 mod common;
@@ -24,10 +24,14 @@ fn allocations(threads: usize) -> usize {
         hopsim_scene::parse(&text, &path, &["controller.torque=0".parse().unwrap()]).unwrap();
     let start = allocated();
     let mut batch = Batch::new(&scene, 32, threads).unwrap();
+    batch.set_commands(&[(0, 1)], &[]).unwrap();
     assert!(allocated() > start, "the counter counts");
     let mut block = |b: usize| {
         for (i, c) in batch.controls_mut().iter_mut().enumerate() {
             *c = 1e-3 * (((i + b) % 5) as f64 - 2.0);
+        }
+        for (i, e) in batch.engaged_mut().iter_mut().enumerate() {
+            *e = (i + b).is_multiple_of(3);
         }
         batch.step(10);
     };
