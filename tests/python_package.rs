@@ -20,7 +20,6 @@ const TEST_PACKAGES: &[&str] = &[
     "pandas",
     "matplotlib",
     "nbclient",
-    "gymnasium",
     "nbformat",
     "ipykernel",
     // hopsim.envs; MuJoCo only as the oracle of the Hopper environment's definitions.
