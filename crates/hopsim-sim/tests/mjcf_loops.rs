@@ -1,0 +1,252 @@
+//! Closed chains written in MJCF (docs/mjcf.md, "Closed loops"): a planar four-bar whose
+//! bodies form two trees closed by a `<connect>` (`tests/models/four_bar.xml`) loads as a
+//! scene with a revolute loop joint, its `hopsim import` text runs the same steps bit for
+//! bit, and MuJoCo itself (the `mujoco` Python package, `tests/mujoco_loops.py`) is the
+//! oracle of the closure's points and of the motion: the connect's anchors on both bodies
+//! are where MuJoCo puts them, and the free fall of the linkage from `qpos0` follows
+//! MuJoCo's RK4 (its connect made nearly hard by `solref`/`solimp`) to the midpoint
+//! scheme's first-order error.
+//!
+//! Without `mujoco` the oracle test is skipped with a notice, unless
+//! HOPSIM_REQUIRE_PYTHON=1, which makes it fail.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use hopsim_model::{Kinematics, LoopKind, Vec2};
+use hopsim_scene::{Override, Scene};
+use hopsim_sim::{Observer, RunError, Simulation, StepView};
+use serde_json::{json, Value};
+
+/// The free fall compared with MuJoCo: its length (s), hopsim's coarser step (s) and
+/// MuJoCo's RK4 step (s).
+const FREE_DURATION: f64 = 0.3;
+const FREE_DT: f64 = 5e-4;
+const REFERENCE_DT: f64 = 1e-5;
+
+fn four_bar() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models/four_bar.xml")
+}
+
+fn load(path: &Path, overrides: &[Override]) -> Scene {
+    hopsim_scene::load(path, overrides).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The world positions of each loop's two points at `q` (zero velocities).
+fn closure_points(scene: &Scene, q: &[f64]) -> Vec<[Vec2; 2]> {
+    let model = &scene.model;
+    let mut k = Kinematics::new(model);
+    k.update_slices(model, q, &vec![0.0; q.len()]);
+    let at = |body: Option<usize>, p: Vec2| match body {
+        Some(b) => {
+            let (s, c) = k.angle(b).sin_cos();
+            k.position(b) + Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y)
+        }
+        None => p,
+    };
+    model
+        .loops()
+        .iter()
+        .map(|l| [at(Some(l.body_a), l.point_a), at(l.body_b, l.point_b)])
+        .collect()
+}
+
+/// Every step's state and loop error.
+#[derive(Default)]
+struct Trace {
+    states: Vec<Vec<f64>>,
+    worst_loop_error: f64,
+}
+
+impl Observer for Trace {
+    fn on_step(&mut self, v: &StepView<'_>) -> Result<(), RunError> {
+        self.states
+            .push(v.state.q.iter().chain(v.state.u.iter()).copied().collect());
+        self.worst_loop_error = self.worst_loop_error.max(v.record.loop_error);
+        Ok(())
+    }
+}
+
+fn run(scene: &Scene, steps: usize) -> Trace {
+    let mut sim = Simulation::new(scene);
+    let mut trace = Trace::default();
+    for _ in 0..steps {
+        sim.step(&mut trace).unwrap_or_else(|e| panic!("{e}"));
+    }
+    trace
+}
+
+/// The `<connect>` becomes a revolute loop joint whose points coincide at `qpos0` on the
+/// coupler's end, `(0.1 + 0.25, √(0.35² − 0.25²))` in the x–z plane, and the imported
+/// scene's text (with its `[[loops]]`) runs the same steps as the model file, bit for bit,
+/// with the loop closed to 1e-10 m throughout.
+#[test]
+fn an_mjcf_four_bar_imports_as_a_scene_with_its_loop() {
+    let path = four_bar();
+    let scene = load(&path, &[]);
+    assert_eq!(scene.coordinates, ["theta2", "theta3", "theta4"]);
+    let loops = scene.model.loops();
+    assert_eq!(loops.len(), 1);
+    assert_eq!(loops[0].name, "coupler-rocker");
+    assert_eq!(loops[0].kind, LoopKind::Revolute);
+    let tip = Vec2::new(0.35, (0.35f64.powi(2) - 0.25f64.powi(2)).sqrt());
+    for p in closure_points(&scene, scene.initial.q.as_slice())[0] {
+        assert!((p - tip).norm() < 1e-15, "{p} against {tip}");
+    }
+
+    let text = hopsim_scene::import_mjcf(&path).unwrap();
+    assert!(
+        text.contains("[[loops]]\nname = \"coupler-rocker\""),
+        "{text}"
+    );
+    assert!(text.contains("type = \"revolute\""), "{text}");
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("four_bar.toml");
+    std::fs::write(&toml, &text).unwrap();
+    let imported = load(&toml, &[]);
+    let steps = 2000;
+    let (a, b) = (run(&scene, steps), run(&imported, steps));
+    assert_eq!(a.states.len(), steps);
+    assert_eq!(a.states, b.states, "the model file and its scene differ");
+    assert!(a.worst_loop_error <= 1e-10, "{}", a.worst_loop_error);
+    // It moved: gravity folds the linkage.
+    let last = a.states.last().unwrap();
+    assert!((last[0] - scene.initial.q[0]).abs() > 0.1, "{last:?}");
+}
+
+/// MuJoCo's answer to `request`, or why it cannot answer.
+fn oracle(request: &Value) -> Result<Value, String> {
+    let python = std::env::var("HOPSIM_PYTHON").unwrap_or_else(|_| "python3".into());
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mujoco_loops.py");
+    let scratch = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let mut child = Command::new(&python)
+        .arg(&script)
+        .current_dir(scratch.path())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot run {python}: {e}"))?;
+    child
+        .stdin
+        .take()
+        .expect("piped stdin")
+        .write_all(request.to_string().as_bytes())
+        .map_err(|e| e.to_string())?;
+    let out = child.wait_with_output().map_err(|e| e.to_string())?;
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let answer: Value = serde_json::from_slice(&out.stdout).expect("the oracle prints JSON");
+    match answer["skip"].as_str() {
+        Some(why) => Err(why.to_string()),
+        None => Ok(answer),
+    }
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("a list")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
+
+/// MuJoCo's world point in the model's x–z plane.
+fn planar(v: &Value) -> Vec2 {
+    let p = numbers(v);
+    Vec2::new(p[0], p[2])
+}
+
+/// The largest difference relative to the largest entry of MuJoCo's.
+fn relative(mine: &[f64], theirs: &[f64]) -> f64 {
+    let scale = theirs.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let worst = mine
+        .iter()
+        .zip(theirs)
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    worst / scale
+}
+
+/// hopsim's state after the free fall at `dt`.
+fn free_fall(path: &Path, dt: f64) -> (Scene, Vec<f64>) {
+    let scene = load(
+        path,
+        &[
+            Override::new("simulation.dt", format!("{dt:?}")),
+            Override::new("simulation.duration", format!("{FREE_DURATION:?}")),
+        ],
+    );
+    let trace = run(&scene, (FREE_DURATION / dt).round() as usize);
+    assert!(
+        trace.worst_loop_error <= 1e-10,
+        "{}",
+        trace.worst_loop_error
+    );
+    let last = trace.states.last().unwrap().clone();
+    (scene, last)
+}
+
+/// The connect's anchors on both bodies are MuJoCo's (at `qpos0` and, after the fall, at
+/// each simulator's own end state to its closure), and the fall from rest follows MuJoCo's
+/// RK4 with an error that halves with the step.
+#[test]
+fn the_mjcf_four_bar_moves_as_in_mujoco() {
+    let path = four_bar();
+    let scene = load(&path, &[]);
+    let q0: Vec<f64> = scene.initial.q.iter().copied().collect();
+    let request = json!({"path": path, "q": q0, "u": vec![0.0; q0.len()],
+                         "duration": FREE_DURATION, "dt": REFERENCE_DT});
+    let answer = match oracle(&request) {
+        Ok(answer) => answer,
+        Err(why) => {
+            let required = std::env::var("HOPSIM_REQUIRE_PYTHON").is_ok_and(|v| v == "1");
+            assert!(!required, "the MuJoCo oracle is unavailable: {why}");
+            eprintln!("notice: MuJoCo oracle skipped: {why}");
+            return;
+        }
+    };
+    let theirs = &answer["start"][0];
+    let mine = closure_points(&scene, &q0)[0];
+    for (side, p) in mine.iter().enumerate() {
+        let d = (p - planar(&theirs[side])).norm();
+        assert!(
+            d < 1e-15,
+            "anchor {side}: {p} against MuJoCo's, {d:e} apart"
+        );
+    }
+    let reference: Vec<f64> = numbers(&answer["qpos"])
+        .into_iter()
+        .chain(numbers(&answer["qvel"]))
+        .collect();
+    // MuJoCo's soft connect, made stiff, stays closed far below hopsim's step error.
+    let end = &answer["end"][0];
+    let gap = (planar(&end[0]) - planar(&end[1])).norm();
+    assert!(gap < 1e-8, "MuJoCo's connect opened by {gap:e} m");
+
+    let (coarse_scene, coarse) = free_fall(&path, FREE_DT);
+    let (_, fine) = free_fall(&path, FREE_DT / 2.0);
+    let (e_coarse, e_fine) = (relative(&coarse, &reference), relative(&fine, &reference));
+    eprintln!(
+        "four-bar free fall for {FREE_DURATION} s against MuJoCo {} RK4 at {REFERENCE_DT:e} s: \
+         error {e_coarse:.2e} at dt = {FREE_DT:e} s, {e_fine:.2e} at {:e} s",
+        answer["version"],
+        FREE_DT / 2.0
+    );
+    assert!(
+        e_coarse < 0.05,
+        "{e_coarse:e} off MuJoCo at dt = {FREE_DT:e}"
+    );
+    assert!(
+        e_fine <= 0.6 * e_coarse,
+        "the error does not fall like the step: {e_coarse:e}, {e_fine:e}"
+    );
+    // Both simulators' anchors coincide at their end states, which are close.
+    let q_end = &coarse[..q0.len()];
+    let [a, b] = closure_points(&coarse_scene, q_end)[0];
+    assert!((a - b).norm() < 1e-10);
+    assert!((a - planar(&end[0])).norm() < 0.01, "{a} against MuJoCo's");
+}
