@@ -250,3 +250,67 @@ fn the_mjcf_four_bar_moves_as_in_mujoco() {
     assert!((a - b).norm() < 1e-10);
     assert!((a - planar(&end[0])).norm() < 0.01, "{a} against MuJoCo's");
 }
+
+/// A double pendulum in the x–z plane whose second hinge has a `ref` of 40°, welded by
+/// `weld` (body1 the lower link, body2 the upper one).
+fn welded_pendulum(weld: &str) -> String {
+    format!(
+        r#"<mujoco><option timestep="0.001"/><worldbody>
+          <body name="upper"><joint name="shoulder" axis="0 -1 0" ref="-30"/>
+            <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+            <body name="lower" pos="0 0 -0.5"><joint name="elbow" axis="0 1 0" ref="40"/>
+              <geom type="capsule" fromto="0 0 0 0.3 0 -0.3" size="0.02" mass="1"/>
+            </body>
+          </body>
+        </worldbody><equality>{weld}</equality></mujoco>"#
+    )
+}
+
+/// A `<weld>` without `relpose` holds the pose at `qpos0`: the imported scene's weld loop
+/// (its angle the links' turn by the hinges' `ref`s) keeps the elbow at its `ref` while
+/// the pendulum swings from the shoulder's; a `relpose` that does not hold at `qpos0` is
+/// refused by the scene with the loop's gap.
+#[test]
+fn an_mjcf_weld_holds_the_elbow_at_its_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("welded.xml");
+    std::fs::write(
+        &path,
+        welded_pendulum(
+            r#"<weld name="elbow-lock" body1="lower" body2="upper" anchor="0 0 -0.5"/>"#,
+        ),
+    )
+    .unwrap();
+    let scene = load(&path, &[]);
+    assert_eq!(scene.model.loops().len(), 1);
+    assert!(matches!(scene.model.loops()[0].kind, LoopKind::Weld { .. }));
+    let elbow = scene.initial.q[1];
+    assert_eq!(elbow, 40f64.to_radians());
+    let trace = run(&scene, 1000);
+    assert!(
+        trace.worst_loop_error <= 1e-10,
+        "{}",
+        trace.worst_loop_error
+    );
+    let swing = trace
+        .states
+        .iter()
+        .fold(0.0f64, |m, s| m.max((s[0] - scene.initial.q[0]).abs()));
+    assert!(swing > 0.3, "the pendulum hardly swung: {swing}");
+    for s in &trace.states {
+        assert!((s[1] - elbow).abs() < 1e-10, "elbow at {} rad", s[1]);
+    }
+
+    std::fs::write(
+        &path,
+        welded_pendulum(
+            r#"<weld name="bent" body1="lower" body2="upper" relpose="0 0 0.5 0.98 0 0.2 0"/>"#,
+        ),
+    )
+    .unwrap();
+    let e = hopsim_scene::load(&path, &[]).unwrap_err().to_string();
+    assert!(
+        e.contains("loop 'bent' is open") && e.contains("initial.q"),
+        "{e}"
+    );
+}
