@@ -27,19 +27,8 @@ const SOFT_EQUALITY: &str = "a parameter of MuJoCo's soft equality constraints: 
 const SITES: &str =
     "equalities between sites (`site1`, `site2`): give `body1`, `body2` and `anchor`";
 
-/// Attributes of `<connect>` (and, with `relpose` and `torquescale`, `<weld>`).
-const CONNECT: Table = &[
-    ("name", Treat::Read),
-    ("active", Treat::Read),
-    ("solref", Treat::Read),
-    ("solimp", Treat::Read),
-    ("body1", Treat::Read),
-    ("body2", Treat::Read),
-    ("anchor", Treat::Read),
-    ("site1", Treat::Unless(crate::attrs::Neutral::Never, SITES)),
-    ("site2", Treat::Unless(crate::attrs::Neutral::Never, SITES)),
-];
-const WELD: Table = &[
+/// Attributes of `<connect>` and `<weld>` (`relpose` and `torquescale`: `<weld>` only).
+const EQUALITY: Table = &[
     ("name", Treat::Read),
     ("active", Treat::Read),
     ("solref", Treat::Read),
@@ -52,6 +41,8 @@ const WELD: Table = &[
     ("site1", Treat::Unless(crate::attrs::Neutral::Never, SITES)),
     ("site2", Treat::Unless(crate::attrs::Neutral::Never, SITES)),
 ];
+/// The attributes of a weld alone.
+const WELD_ONLY: [&str; 2] = ["relpose", "torquescale"];
 /// Attributes of `<default><equality>`.
 pub(crate) const DEFAULTS: Table = &[
     ("active", Treat::Read),
@@ -119,16 +110,23 @@ pub(crate) fn read<'d>(
         if let Some(c) = child.children.first() {
             return Err(c.error(None, format!("<{}> takes no child elements", child.name)));
         }
-        let (table, weld) = match child.name.as_str() {
-            "connect" => (CONNECT, false),
-            "weld" => (WELD, true),
+        let weld = match child.name.as_str() {
+            "connect" => false,
+            "weld" => true,
             "joint" | "tendon" | "flex" | "distance" => return Err(unsupported(child)),
             other => {
                 return Err(child.error(None, format!("unknown element <{other}> in <equality>")))
             }
         };
         let v = View::new(child, defaults(child)?);
-        v.check(table, ctx)?;
+        v.check(EQUALITY, ctx)?;
+        if let Some(a) = WELD_ONLY
+            .iter()
+            .find_map(|n| child.attr(n))
+            .filter(|_| !weld)
+        {
+            return Err(v.error_at(a, "applies to <weld> only"));
+        }
         for name in ["solref", "solimp", "torquescale"] {
             if let Some(a) = v.get(name) {
                 ctx.notice(

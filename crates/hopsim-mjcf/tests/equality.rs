@@ -177,6 +177,11 @@ fn unsupported_equalities_are_located_errors_naming_element_and_attribute() {
             Some("body2"),
         ),
         (r#"<weld body2="b"/>"#, "weld", None),
+        (
+            r#"<connect body1="a" relpose="0 0 0 1 0 0 0"/>"#,
+            "connect",
+            Some("relpose"),
+        ),
     ] {
         let e = fails(&pendulums(&format!("<equality>{xml}</equality>")));
         let subject = e.subject.clone().unwrap();

@@ -10,13 +10,14 @@
 //! Without `mujoco` the oracle test is skipped with a notice, unless
 //! HOPSIM_REQUIRE_PYTHON=1, which makes it fail.
 
-use std::io::Write;
+mod oracle;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 use hopsim_model::{Kinematics, LoopKind, Vec2};
 use hopsim_scene::{Override, Scene};
 use hopsim_sim::{Observer, RunError, Simulation, StepView};
+use oracle::{numbers, relative};
 use serde_json::{json, Value};
 
 /// The free fall compared with MuJoCo: its length (s), hopsim's coarser step (s) and
@@ -115,60 +116,10 @@ fn an_mjcf_four_bar_imports_as_a_scene_with_its_loop() {
     assert!((last[0] - scene.initial.q[0]).abs() > 0.1, "{last:?}");
 }
 
-/// MuJoCo's answer to `request`, or why it cannot answer.
-fn oracle(request: &Value) -> Result<Value, String> {
-    let python = std::env::var("HOPSIM_PYTHON").unwrap_or_else(|_| "python3".into());
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mujoco_loops.py");
-    let scratch = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let mut child = Command::new(&python)
-        .arg(&script)
-        .current_dir(scratch.path())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| format!("cannot run {python}: {e}"))?;
-    child
-        .stdin
-        .take()
-        .expect("piped stdin")
-        .write_all(request.to_string().as_bytes())
-        .map_err(|e| e.to_string())?;
-    let out = child.wait_with_output().map_err(|e| e.to_string())?;
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let answer: Value = serde_json::from_slice(&out.stdout).expect("the oracle prints JSON");
-    match answer["skip"].as_str() {
-        Some(why) => Err(why.to_string()),
-        None => Ok(answer),
-    }
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("a list")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
-}
-
 /// MuJoCo's world point in the model's x–z plane.
 fn planar(v: &Value) -> Vec2 {
     let p = numbers(v);
     Vec2::new(p[0], p[2])
-}
-
-/// The largest difference relative to the largest entry of MuJoCo's.
-fn relative(mine: &[f64], theirs: &[f64]) -> f64 {
-    let scale = theirs.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let worst = mine
-        .iter()
-        .zip(theirs)
-        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-    worst / scale
 }
 
 /// hopsim's state after the free fall at `dt`.
@@ -200,14 +151,9 @@ fn the_mjcf_four_bar_moves_as_in_mujoco() {
     let q0: Vec<f64> = scene.initial.q.iter().copied().collect();
     let request = json!({"path": path, "q": q0, "u": vec![0.0; q0.len()],
                          "duration": FREE_DURATION, "dt": REFERENCE_DT});
-    let answer = match oracle(&request) {
+    let answer = match oracle::ask("mujoco_loops.py", &request) {
         Ok(answer) => answer,
-        Err(why) => {
-            let required = std::env::var("HOPSIM_REQUIRE_PYTHON").is_ok_and(|v| v == "1");
-            assert!(!required, "the MuJoCo oracle is unavailable: {why}");
-            eprintln!("notice: MuJoCo oracle skipped: {why}");
-            return;
-        }
+        Err(why) => return oracle::unavailable(&why),
     };
     let theirs = &answer["start"][0];
     let mine = closure_points(&scene, &q0)[0];
