@@ -6,15 +6,8 @@
 use hopsim_mjcf::{read_str, EqualityKind, MjcfError, NoticeKind, PlanarModel, ReadOptions};
 use nalgebra::Vector2;
 
-fn read(xml: &str) -> PlanarModel {
-    read_str(xml, "test.xml", None, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn fails(xml: &str) -> MjcfError {
-    match read_str(xml, "test.xml", None, &ReadOptions::default()) {
-        Ok(_) => panic!("read without error:\n{xml}"),
-        Err(e) => e,
-    }
+fn parse(xml: &str) -> Result<PlanarModel, MjcfError> {
+    read_str(xml, "test.xml", None, &ReadOptions::default())
 }
 
 /// Two pendulums in the x–z plane (hinge axes along −y, the plane's normal): `a` hinged at
@@ -36,9 +29,10 @@ fn close(a: Vector2<f64>, b: Vector2<f64>) -> bool {
 
 #[test]
 fn a_connect_holds_body1s_anchor_on_the_point_of_body2_under_it_at_qpos0() {
-    let m = read(&pendulums(
+    let m = parse(&pendulums(
         r#"<equality><connect name="pin" body1="a" body2="tip" anchor="0.75 0 0.25"/></equality>"#,
-    ));
+    ))
+    .unwrap();
     let [eq] = m.equalities.as_slice() else {
         panic!("{:?}", m.equalities)
     };
@@ -52,9 +46,10 @@ fn a_connect_holds_body1s_anchor_on_the_point_of_body2_under_it_at_qpos0() {
 
 #[test]
 fn body2_defaults_to_the_world() {
-    let m = read(&pendulums(
+    let m = parse(&pendulums(
         r#"<equality><connect body1="b" anchor="0 0 -1"/></equality>"#,
-    ));
+    ))
+    .unwrap();
     let eq = &m.equalities[0];
     assert_eq!((eq.body1, eq.body2), (Some(1), None));
     assert!(close(eq.point1, Vector2::new(0.0, -1.0)));
@@ -64,9 +59,10 @@ fn body2_defaults_to_the_world() {
 
 #[test]
 fn a_weld_without_relpose_holds_the_pose_at_qpos0() {
-    let m = read(&pendulums(
+    let m = parse(&pendulums(
         r#"<equality><weld body1="a" body2="b" anchor="0 0 0.2"/></equality>"#,
-    ));
+    ))
+    .unwrap();
     let eq = &m.equalities[0];
     assert_eq!(eq.kind, EqualityKind::Weld { angle: 0.0 });
     // The anchor is in body2's frame; body1's point is the same world point at qpos0.
@@ -80,12 +76,13 @@ fn a_weld_without_relpose_holds_the_pose_at_qpos0() {
 #[test]
 fn a_weld_with_relpose_holds_that_pose() {
     let half = 15f64.to_radians();
-    let m = read(&pendulums(&format!(
+    let m = parse(&pendulums(&format!(
         r#"<equality><weld body1="a" body2="b" anchor="0 0 0.2"
              relpose="0.5 0 0 {} 0 {} 0" torquescale="2"/></equality>"#,
         half.cos(),
         half.sin()
-    )));
+    )))
+    .unwrap();
     let eq = &m.equalities[0];
     let EqualityKind::Weld { angle } = eq.kind else {
         panic!("{:?}", eq.kind)
@@ -100,22 +97,24 @@ fn a_weld_with_relpose_holds_that_pose() {
 
 #[test]
 fn a_relpose_out_of_the_plane_is_an_error() {
-    let e = fails(&pendulums(
+    let e = parse(&pendulums(
         r#"<equality><weld body1="a" body2="b" relpose="0 0 0 0.9 0.1 0 0"/></equality>"#,
-    ));
+    ))
+    .unwrap_err();
     assert_eq!(e.subject.unwrap().attribute.as_deref(), Some("relpose"));
     assert!(e.message.contains("out of the plane"), "{}", e.message);
 }
 
 #[test]
 fn soft_parameters_are_notices_and_inactive_equalities_are_left_out() {
-    let m = read(&pendulums(
+    let m = parse(&pendulums(
         r#"<default><equality solimp="0.9 0.95 0.001"/></default>
         <equality>
           <connect body1="a" body2="b" anchor="1 0 0" solref="0.01 1"/>
           <connect body1="a" body2="tip" anchor="1 0 0.5" active="false"/>
         </equality>"#,
-    ));
+    ))
+    .unwrap();
     assert_eq!(m.equalities.len(), 1);
     for attribute in ["solref", "solimp"] {
         assert!(
@@ -133,19 +132,21 @@ fn soft_parameters_are_notices_and_inactive_equalities_are_left_out() {
 
 #[test]
 fn a_default_class_can_switch_equalities_off() {
-    let m = read(&pendulums(
+    let m = parse(&pendulums(
         r#"<default><default class="off"><equality active="false"/></default></default>
         <equality><connect class="off" body1="a" body2="b" anchor="1 0 0"/></equality>"#,
-    ));
+    ))
+    .unwrap();
     assert!(m.equalities.is_empty());
 }
 
 #[test]
 fn the_equality_flag_disables_them_with_a_notice() {
-    let m = read(&pendulums(
+    let m = parse(&pendulums(
         r#"<option><flag equality="disable"/></option>
         <equality><connect body1="a" body2="b" anchor="1 0 0"/></equality>"#,
-    ));
+    ))
+    .unwrap();
     assert!(m.equalities.is_empty());
     assert!(m.notices.iter().any(|n| n.subject.element == "connect"));
 }
@@ -183,7 +184,7 @@ fn unsupported_equalities_are_located_errors_naming_element_and_attribute() {
             Some("relpose"),
         ),
     ] {
-        let e = fails(&pendulums(&format!("<equality>{xml}</equality>")));
+        let e = parse(&pendulums(&format!("<equality>{xml}</equality>"))).unwrap_err();
         let subject = e.subject.clone().unwrap();
         assert_eq!(subject.element, element, "{e}");
         assert_eq!(subject.attribute.as_deref(), attribute, "{e}");
