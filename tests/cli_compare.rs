@@ -133,6 +133,7 @@ fn record(path: &Path, impulse: impl Fn(u64) -> f64) {
         }],
         contacts: vec!["wheel/ground".into()],
         joints: vec![],
+        loops: vec![],
         springs: vec![],
         terrain: Terrain::flat(0.0),
         dt: 1e-3,

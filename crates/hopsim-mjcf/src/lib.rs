@@ -23,6 +23,7 @@
 //! ```
 
 mod attrs;
+mod equality;
 mod error;
 mod inertia;
 mod model;
@@ -36,6 +37,7 @@ mod xml;
 
 use std::path::Path;
 
+pub use equality::{Equality, EqualityKind};
 pub use error::{Location, MjcfError, Notice, NoticeKind, Subject};
 pub use model::{
     Actuator, ActuatorKind, Body, Geom, Joint, JointKind, Options, Part, PlanarModel, Plane, Shape,

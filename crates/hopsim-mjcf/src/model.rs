@@ -60,6 +60,9 @@ pub struct PlanarModel {
     /// Every geom, of the bodies and of the world.
     pub geoms: Vec<Geom>,
     pub actuators: Vec<Actuator>,
+    /// `<connect>` and `<weld>` equalities: loop closures between bodies (or a body and
+    /// the world).
+    pub equalities: Vec<crate::Equality>,
     /// What was read and left without effect, with the reason.
     pub notices: Vec<Notice>,
 }

@@ -217,6 +217,19 @@ pub(crate) fn build(doc: Document, ctx: &mut Context) -> Result<PlanarModel> {
         clamp_controls: flag("clampctrl", true),
         filter_parent: flag("filterparent", true),
     };
+    let equalities = crate::equality::planar(
+        &doc.equalities,
+        &crate::equality::Frames {
+            bodies3: &doc.bodies,
+            xpos: &xpos,
+            xquat: &xquat,
+            owner: &owner,
+            bodies: &bodies,
+            plane: &plane,
+        },
+        constraints && flag("equality", true),
+        ctx,
+    )?;
     Ok(PlanarModel {
         name: doc.name,
         plane,
@@ -226,6 +239,7 @@ pub(crate) fn build(doc: Document, ctx: &mut Context) -> Result<PlanarModel> {
         joints,
         geoms,
         actuators,
+        equalities,
         notices: std::mem::take(&mut ctx.notices),
     })
 }

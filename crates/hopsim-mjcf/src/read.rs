@@ -137,6 +137,8 @@ pub(crate) struct Document {
     /// Body 0 is the world; parents before children (MuJoCo's order).
     pub bodies: Vec<Body3>,
     pub actuators: Vec<Actuator3>,
+    /// `<connect>` and `<weld>`, active ones only.
+    pub equalities: Vec<crate::equality::Equality3>,
 }
 
 /// One default class: the attributes its elements start from.
@@ -146,6 +148,7 @@ struct Class {
     geom: Vec<Attr>,
     /// Shared by `<motor>`, `<position>` and `<velocity>`, as in MuJoCo.
     actuator: Vec<Attr>,
+    equality: Vec<Attr>,
 }
 
 /// Reads the root element `<mujoco>`.
@@ -196,6 +199,7 @@ pub(crate) fn read_document(root: &Element, ctx: &mut Context) -> Result<Documen
         geoms: 0,
     };
     let mut actuators = Vec::new();
+    let mut equalities = Vec::new();
     let mut world_seen = false;
     for e in &root.children {
         match e.name.as_str() {
@@ -209,10 +213,11 @@ pub(crate) fn read_document(root: &Element, ctx: &mut Context) -> Result<Documen
                     actuators.push(reader.actuator(a)?);
                 }
             }
-            "equality" => refuse_children(
+            "equality" => equalities.extend(crate::equality::read(
                 e,
-                "closed loops (equality constraints) are not yet supported",
-            )?,
+                |child| Ok(class_of(reader.classes, child, "main")?.equality.as_slice()),
+                reader.ctx,
+            )?),
             "tendon" => refuse_children(e, "tendons are not supported")?,
             "contact" => refuse_children(
                 e,
@@ -243,6 +248,7 @@ pub(crate) fn read_document(root: &Element, ctx: &mut Context) -> Result<Documen
         options,
         bodies,
         actuators,
+        equalities,
     })
 }
 
@@ -394,12 +400,13 @@ fn read_default(
             "motor" => (&mut class.actuator, tables::MOTOR),
             "position" => (&mut class.actuator, tables::POSITION),
             "velocity" => (&mut class.actuator, tables::VELOCITY),
+            "equality" => (&mut class.equality, crate::equality::DEFAULTS),
             "site" | "camera" | "light" | "mesh" | "material" | "texture" => {
                 ctx.ignore_element(child, VISUAL);
                 continue;
             }
             "general" | "intvelocity" | "damper" | "cylinder" | "muscle" | "adhesion"
-            | "tendon" | "spatial" | "fixed" | "equality" | "pair" | "flex" => {
+            | "tendon" | "spatial" | "fixed" | "pair" | "flex" => {
                 ctx.notice(
                     NoticeKind::Ignored,
                     &child.loc,

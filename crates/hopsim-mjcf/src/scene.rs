@@ -18,6 +18,10 @@
 //!   are shapes, and every pair of geoms MuJoCo lets collide is a contact pair. Friction
 //!   is MuJoCo's combination (the higher priority's, else the larger; frictionless when
 //!   the combined `condim` is 1), restitution 0.
+//! - `<connect>` and `<weld>` equalities are `[[loops]]` (revolute and weld loop joints)
+//!   between their bodies' links.
+
+mod loops;
 
 use std::fmt::Write as _;
 
@@ -426,6 +430,7 @@ pub fn scene_toml(model: &PlanarModel, source: &str) -> Result<SceneText, Import
     }
 
     write_actuators(model, &links, &mut t, &mut notices).map_err(fail)?;
+    loops::write_loops(model, &links, &carrier, &mut t);
     if !model.options.contact {
         notices.push("contacts are disabled (<flag contact>): no terrain, no pairs".into());
     }

@@ -504,9 +504,9 @@ fn options_flags_and_notices() {
 
 #[test]
 fn physics_outside_the_subset_is_an_error_unless_allowed() {
-    let e = fails("<mujoco>\n  <equality><connect body1=\"a\" body2=\"b\" anchor=\"0 0 0\"/></equality></mujoco>");
+    let e = fails("<mujoco>\n  <equality><joint joint1=\"a\" joint2=\"b\"/></equality></mujoco>");
     assert!(
-        e.location.line == 2 && e.to_string().contains("closed loops"),
+        e.location.line == 2 && e.to_string().contains("polynomial coupling"),
         "{e}"
     );
     let viscous = r#"<mujoco><option viscosity="0.1"/></mujoco>"#;

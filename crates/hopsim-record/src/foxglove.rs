@@ -11,7 +11,8 @@ use crate::geometry::{
     palette, terrain_pieces, Outline, Point, RobotShapes, TerrainCover, INACTIVE_COLOR, RAIL_COLOR,
     TERRAIN_COLOR,
 };
-use crate::{Frame, JointInfo, RecordingInfo};
+use crate::loops::{markers, rods, LOOP_COLOR};
+use crate::{Frame, JointInfo, LoopInfo, RecordingInfo};
 use hopsim_model::Terrain;
 use serde::ser::SerializeSeq;
 use serde::{Serialize, Serializer};
@@ -21,6 +22,8 @@ use serde_json::{json, Value};
 pub const SCENE_TOPIC: &str = "/foxglove/scene";
 /// Topic of the `foxglove.FrameTransforms` messages.
 pub const TRANSFORMS_TOPIC: &str = "/foxglove/transforms";
+/// The scene entity of the loop joints' world parts (frame `world`).
+pub const LOOPS_ENTITY: &str = "loops";
 /// The fixed frame: the ground.
 pub const WORLD_FRAME: &str = "world";
 /// Schema name and JSON Schema (vendored from Foxglove's schema repository) of
@@ -54,6 +57,11 @@ pub(crate) struct FoxgloveScene {
     /// Per body, the rails of the prismatic joints it carries (docs/physics.md §7): from
     /// the anchor plus the lower to the upper extension along the axis, in its frame.
     rails: Vec<Vec<[Point; 2]>>,
+    /// Per body, the points of loop joints on it (its frame); the world points of loops
+    /// to the world; the loops drawn as segments (docs/physics.md §8).
+    pins: Vec<Vec<Point>>,
+    world_pins: Vec<Point>,
+    rods: Vec<LoopInfo>,
     /// The shapes' activity in the last scene update (none before the first).
     active: Option<Vec<bool>>,
 }
@@ -61,7 +69,11 @@ pub(crate) struct FoxgloveScene {
 impl FoxgloveScene {
     pub(crate) fn new(info: &RecordingInfo) -> Self {
         let shapes = RobotShapes::of(info);
+        let (pins, world_pins) = markers(info);
         Self {
+            pins,
+            world_pins,
+            rods: rods(info),
             cover: TerrainCover::new(shapes.size_m),
             shapes,
             frames: info.bodies.iter().map(|b| body_frame(&b.name)).collect(),
@@ -71,12 +83,13 @@ impl FoxgloveScene {
         }
     }
 
-    /// The scene update due at `frame`, if the scene changed: the whole scene (terrain and
-    /// every body), so that the latest update alone shows it after a seek.
+    /// The scene update due at `frame`, if the scene changed: the whole scene (terrain,
+    /// every body and the loop joints), so that the latest update alone shows it after a
+    /// seek. A model with rods (distance or slot loops) changes at every frame.
     pub(crate) fn update(&mut self, frame: &Frame<'_>) -> Option<Value> {
         let grew = self.cover.cover(frame.com[0]);
         let switched = self.active.as_deref() != Some(frame.shapes_active);
-        if !grew && !switched {
+        if !grew && !switched && self.rods.is_empty() {
             return None;
         }
         self.active = Some(frame.shapes_active.to_vec());
@@ -87,6 +100,9 @@ impl FoxgloveScene {
             let active = &frame.shapes_active[first..first + outlines.len()];
             first += outlines.len();
             entities.push(self.body_entity(b, active, &stamp));
+        }
+        if !self.world_pins.is_empty() || !self.rods.is_empty() {
+            entities.push(self.loops_entity(frame, &stamp));
         }
         Some(json!({ "deletions": [], "entities": entities }))
     }
@@ -99,6 +115,29 @@ impl FoxgloveScene {
         entity("terrain", WORLD_FRAME, stamp, vec![line], vec![])
     }
 
+    /// The loops' parts in the world: markers at the world points of loops to the world,
+    /// and each rod from point A to point B at `frame`.
+    fn loops_entity(&self, frame: &Frame<'_>, stamp: &Value) -> Value {
+        let marker = 0.04 * self.shapes.size_m;
+        let spheres = self
+            .world_pins
+            .iter()
+            .map(|p| sphere(*p, 1.5 * marker, LOOP_COLOR))
+            .collect();
+        let lines = self
+            .rods
+            .iter()
+            .map(|l| {
+                line(
+                    LINE_STRIP,
+                    l.ends(frame.bodies).map(vector).to_vec(),
+                    LOOP_COLOR,
+                )
+            })
+            .collect();
+        entity(LOOPS_ENTITY, WORLD_FRAME, stamp, lines, spheres)
+    }
+
     /// Body `b` in its frame: shape outlines as lines, point shapes as small spheres (grey
     /// when inactive), a spoke along its x axis and a sphere at its centre of mass.
     fn body_entity(&self, b: usize, active: &[bool], stamp: &Value) -> Value {
@@ -109,6 +148,9 @@ impl FoxgloveScene {
         let mut spheres = vec![sphere([0.0, 0.0], marker, palette(b))];
         for rail in &self.rails[b] {
             lines.push(line(LINE_STRIP, rail.map(vector).to_vec(), RAIL_COLOR));
+        }
+        for pin in &self.pins[b] {
+            spheres.push(sphere(*pin, 1.5 * marker, LOOP_COLOR));
         }
         for (outline, &on) in self.shapes.outlines[b].iter().zip(active) {
             match outline {

@@ -49,18 +49,11 @@ impl JointInfo {
     /// parent to the child's joint point; for a prismatic joint a segment of length `|s|`
     /// along the axis.
     pub fn link(&self, poses: &[BodyPose]) -> [[f64; 2]; 2] {
-        let world = |pose: &BodyPose, [x, y]: [f64; 2]| {
-            let (sin, cos) = pose.angle.sin_cos();
-            [
-                pose.position[0] + cos * x - sin * y,
-                pose.position[1] + sin * x + cos * y,
-            ]
-        };
         let anchor = match self.parent {
-            Some(p) => world(&poses[p], self.anchor_m),
+            Some(p) => world_point(&poses[p], self.anchor_m),
             None => self.anchor_m,
         };
-        [anchor, world(&poses[self.body], self.child_point_m)]
+        [anchor, world_point(&poses[self.body], self.child_point_m)]
     }
 
     /// A prismatic joint on a body: its parent and its rail in the parent's frame, from
@@ -86,6 +79,15 @@ impl JointInfo {
     }
 }
 
+/// The world point of `[x, y]` in the frame of a body at `pose`.
+pub(crate) fn world_point(pose: &BodyPose, [x, y]: [f64; 2]) -> [f64; 2] {
+    let (sin, cos) = pose.angle.sin_cos();
+    [
+        pose.position[0] + cos * x - sin * y,
+        pose.position[1] + sin * x + cos * y,
+    ]
+}
+
 /// What a recording needs to know once, before the first frame.
 #[derive(Clone, Debug)]
 pub struct RecordingInfo {
@@ -105,6 +107,8 @@ pub struct RecordingInfo {
     pub contacts: Vec<String>,
     /// The joints of the bodies that hang on one (floating and fixed bases have none).
     pub joints: Vec<JointInfo>,
+    /// The loop joints (docs/physics.md §8).
+    pub loops: Vec<crate::LoopInfo>,
     /// Names of the springs (indexed like `Frame::springs`).
     pub springs: Vec<String>,
     /// The terrain to draw.

@@ -10,6 +10,7 @@ mod csv;
 mod foxglove;
 mod frame;
 mod geometry;
+mod loops;
 mod mcap_format;
 mod mcap_read;
 mod mcap_write;
@@ -29,6 +30,7 @@ pub use frame::{
 };
 pub use geometry::CoordinateUnit;
 pub use hopsim_io::{partial_path, write_atomically, AtomicFile};
+pub use loops::{LoopInfo, LoopInfoKind};
 pub use mcap_format::{
     CONTACTS_TOPIC, ENERGY_TOPIC, EVENTS_TOPIC, METADATA_NAME, STATE_TOPIC, STOP_METADATA_NAME,
 };

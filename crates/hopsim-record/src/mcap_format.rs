@@ -622,6 +622,7 @@ pub(crate) fn metadata(info: &RecordingInfo, scene_file: &str) -> BTreeMap<Strin
         ("contacts", list(&info.contacts)),
         ("springs", list(&info.springs)),
         ("joints", joints_json(info)),
+        ("loops", crate::loops::loops_json(info)),
         ("hopsim_version", env!("CARGO_PKG_VERSION").to_string()),
         ("format_version", FORMAT_VERSION.to_string()),
     ]

@@ -3,11 +3,11 @@
 use crate::Setup;
 use crate::{Observer, RunError, StepView};
 use hopsim_control::ControllerConfig;
-use hopsim_model::JointKind;
+use hopsim_model::{JointKind, LoopJoint, LoopKind};
 use hopsim_record::{
     recorded_time, ActuatorInfo, ActuatorQuantity, BodyInfo, BodyPose, ContactSample,
-    CoordinateUnit, EnergySample, Event, EventKind, Frame, JointInfo, JointInfoKind, RecorderSet,
-    RecordingInfo, Stop,
+    CoordinateUnit, EnergySample, Event, EventKind, Frame, JointInfo, JointInfoKind, LoopInfo,
+    LoopInfoKind, RecorderSet, RecordingInfo, Stop,
 };
 use std::path::PathBuf;
 
@@ -47,6 +47,7 @@ pub fn recording_info(scene: &Setup) -> RecordingInfo {
             .map(|i| model.contact_name(i).to_string())
             .collect(),
         joints: joint_infos(scene),
+        loops: model.loops().iter().map(loop_info).collect(),
         springs: model.springs().iter().map(|s| s.name.clone()).collect(),
         terrain: model.terrain().clone(),
         dt: scene.settings.dt,
@@ -67,6 +68,24 @@ pub fn recording_info(scene: &Setup) -> RecordingInfo {
                 },
             })
             .collect(),
+    }
+}
+
+/// A loop joint as recordings draw it (docs/physics.md §8).
+fn loop_info(joint: &LoopJoint) -> LoopInfo {
+    let point = |v: hopsim_model::Vec2| [v.x, v.y];
+    LoopInfo {
+        name: joint.name.clone(),
+        kind: match joint.kind {
+            LoopKind::Revolute => LoopInfoKind::Revolute,
+            LoopKind::Weld { angle } => LoopInfoKind::Weld { angle_rad: angle },
+            LoopKind::Distance { length } => LoopInfoKind::Distance { length_m: length },
+            LoopKind::Slot { axis } => LoopInfoKind::Slot { axis: point(axis) },
+        },
+        body_a: joint.body_a,
+        point_a_m: point(joint.point_a),
+        body_b: joint.body_b,
+        point_b_m: point(joint.point_b),
     }
 }
 

@@ -17,14 +17,15 @@
 //! (test-only; .ci/run installs them). Without them the test is skipped with a notice,
 //! unless HOPSIM_REQUIRE_PYTHON=1, which makes it fail.
 
-use std::io::Write;
+mod oracle;
+
 use std::path::Path;
-use std::process::{Command, Stdio};
 
 use hopsim_model::Kinematics;
 use hopsim_scene::{Override, Scene};
 use hopsim_sim::{Observer, RunError, Simulation, StepView};
 use nalgebra::{DMatrix, DVector};
+use oracle::{numbers, relative, unavailable};
 use serde_json::{json, Value};
 
 const RELATIVE: f64 = 1e-10;
@@ -33,55 +34,9 @@ const STATES: usize = 100;
 const DROP: f64 = 0.1;
 const DROP_DURATION: f64 = 15.0;
 
-/// A notice that the oracle is missing, or a failure when CI requires it.
-fn unavailable(why: &str) {
-    let required = std::env::var("HOPSIM_REQUIRE_PYTHON").is_ok_and(|v| v == "1");
-    assert!(
-        !required,
-        "the MuJoCo oracle is unavailable: {why} (HOPSIM_REQUIRE_PYTHON=1)"
-    );
-    eprintln!("notice: MuJoCo oracle skipped: {why}; install them with `python3 -m pip install mujoco gymnasium dm_control`");
-}
-
-/// The oracle's answer to `request`, or why it cannot answer.
+/// The answer of `tests/mujoco_dynamics.py` to `request`, or why it cannot answer.
 fn oracle(request: &Value) -> Result<Value, String> {
-    let python = std::env::var("HOPSIM_PYTHON").unwrap_or_else(|_| "python3".into());
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mujoco_dynamics.py");
-    // MuJoCo writes MUJOCO_LOG.TXT into its working directory: keep it out of the tree.
-    let scratch = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let mut child = Command::new(&python)
-        .arg(&script)
-        .current_dir(scratch.path())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| format!("cannot run {python}: {e}"))?;
-    child
-        .stdin
-        .take()
-        .expect("piped stdin")
-        .write_all(request.to_string().as_bytes())
-        .map_err(|e| e.to_string())?;
-    let out = child.wait_with_output().map_err(|e| e.to_string())?;
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let answer: Value = serde_json::from_slice(&out.stdout).expect("the oracle prints JSON");
-    match answer["skip"].as_str() {
-        Some(why) => Err(why.to_string()),
-        None => Ok(answer),
-    }
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("a list")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
+    oracle::ask("mujoco_dynamics.py", request)
 }
 
 /// A reproducible uniform draw in `[-1, 1)` (xorshift64*).
@@ -108,16 +63,6 @@ fn dynamics(scene: &Scene, q: &[f64], u: &[f64]) -> (DMatrix<f64>, DVector<f64>)
     let mut h = DVector::zeros(n);
     model.forces(&kinematics, &DVector::zeros(n), &mut h);
     (m, h)
-}
-
-/// The largest difference relative to the largest entry of MuJoCo's.
-fn relative(mine: &[f64], theirs: &[f64]) -> f64 {
-    let scale = theirs.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-    let worst = mine
-        .iter()
-        .zip(theirs)
-        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-    worst / scale.max(f64::MIN_POSITIVE)
 }
 
 /// What the end of a drop looks like.

@@ -8,7 +8,7 @@
 //! the same as with every row.
 
 use super::drawing::{
-    f32_point, Drawing, COM_ENTITY, CONTACTS_ENTITY, LINK_ENTITY, NORMAL_FORCE_ENTITY,
+    f32_point, Drawing, COM_ENTITY, CONTACTS_ENTITY, LINK_ENTITY, LOOPS_ENTITY, NORMAL_FORCE_ENTITY,
 };
 use super::{STEP_TIMELINE, TIME_TIMELINE};
 use crate::geometry::{wrap_angle, CoordinateUnit};
@@ -262,6 +262,11 @@ pub(super) struct Columns {
     /// The prismatic joints and their link segments, one per joint and frame.
     pub(super) prismatic: Vec<JointInfo>,
     pub(super) links: Track<[[f32; 2]; 2]>,
+    /// The loop joints drawn as segments (distance, slot) and their segments per frame.
+    pub(super) rods: Vec<crate::LoopInfo>,
+    /// The loop joints' points: per body in its frame, and the world points.
+    pub(super) loop_markers: (Vec<Vec<[f64; 2]>>, Vec<[f64; 2]>),
+    rod_segments: Track<[[f32; 2]; 2]>,
     /// The contacts' impulses and their force arrows, and the arrows of the normal force
     /// only where friction is indeterminate (`[origin, vector]`).
     contacts: Track<ContactValue>,
@@ -309,6 +314,9 @@ impl Columns {
             spring_count: info.springs.len(),
             links: Track::new(CHUNK_FRAMES, prismatic.len()),
             prismatic,
+            rod_segments: Track::new(CHUNK_FRAMES, info.loops.len()),
+            rods: crate::loops::rods(info),
+            loop_markers: crate::loops::markers(info),
             contacts: Track::new(CHUNK_FRAMES, 3 * contacts),
             contact_count: contacts,
             normal_forces: Track::new(CHUNK_FRAMES, 0),
@@ -347,6 +355,11 @@ impl Columns {
             .iter()
             .map(|j| j.link(frame.bodies).map(f32_point));
         self.links.push(t, step, links);
+        let rods = self
+            .rods
+            .iter()
+            .map(|l| l.ends(frame.bodies).map(f32_point));
+        self.rod_segments.push(t, step, rods);
         let n = self.contact_count;
         let impulse = |i: usize| {
             let sample = frame.contacts.iter().find(|c| c.contact == i % n);
@@ -417,6 +430,7 @@ impl Columns {
         };
         self.springs.send(stream, "world/springs", strips)?;
         self.links.send(stream, LINK_ENTITY, strips)?;
+        self.rod_segments.send(stream, LOOPS_ENTITY, strips)?;
         let arrows = |arrows: &[[[f32; 2]; 2]], lens: &[usize]| {
             Arrows2D::update_fields()
                 .with_origins(arrows.iter().map(|a| a[0]))

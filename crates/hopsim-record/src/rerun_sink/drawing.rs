@@ -28,6 +28,9 @@ pub(super) const FORCE_COLOR: [u8; 3] = [214, 39, 40];
 /// The prismatic links: from each joint's anchor on the parent to the child's joint point.
 pub(super) const LINK_ENTITY: &str = "world/joints";
 pub(super) const LINK_COLOR: [u8; 3] = [60, 60, 60];
+/// The loop joints (docs/physics.md §8): their rods (distance, slot) per frame, and under
+/// it the markers of world points; the markers of body points are `<body>/loops`.
+pub(super) const LOOPS_ENTITY: &str = "world/loops";
 
 /// Entity of the contacts: their impulses (a time series) and force arrows.
 pub(super) const CONTACTS_ENTITY: &str = "world/contacts";
@@ -52,6 +55,35 @@ pub(super) const BODIES_ENTITY: &str = "world/com/bodies";
 pub(super) const TRAIL_ENTITY: &str = "world/trail";
 
 impl RerunRecorder {
+    /// The loop joints' markers of `radius`: each body's loop points in its frame, the
+    /// world points under [`LOOPS_ENTITY`], and the rods' appearance.
+    fn log_loop_markers(&mut self, radius: f32) -> Result<(), RecordError> {
+        let (on_bodies, on_world) = self.columns.loop_markers.clone();
+        let points = |pins: &[Point]| {
+            Points2D::new(pins.iter().map(|p| f32_point(*p)))
+                .with_colors([rgb(crate::loops::LOOP_COLOR)])
+                .with_radii([radius])
+        };
+        for (b, pins) in on_bodies.iter().enumerate() {
+            if !pins.is_empty() {
+                let entity = format!("{}/loops", self.drawing.bodies[b].entity);
+                self.log_static(&entity, &points(pins))?;
+            }
+        }
+        if !on_world.is_empty() {
+            self.log_static(&format!("{LOOPS_ENTITY}/world"), &points(&on_world))?;
+        }
+        if !self.columns.rods.is_empty() {
+            self.log_static(
+                LOOPS_ENTITY,
+                &LineStrips2D::update_fields()
+                    .with_colors([rgb(crate::loops::LOOP_COLOR)])
+                    .with_radii([0.5 * radius]),
+            )?;
+        }
+        Ok(())
+    }
+
     /// The y-up transform, the names and colours of the plotted series, and what of each
     /// body never changes: its centre of mass and spoke (body frame).
     pub(super) fn log_static_entities(&mut self) -> Result<(), RecordError> {
@@ -91,6 +123,7 @@ impl RerunRecorder {
                     .with_radii([0.5 * marker]),
             )?;
         }
+        self.log_loop_markers(1.5 * marker)?;
         // A prismatic joint's rail in its parent's frame: the extensions it may take.
         for (j, (parent, rail)) in self
             .columns

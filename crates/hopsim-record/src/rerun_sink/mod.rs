@@ -329,6 +329,7 @@ mod tests {
             bodies: vec![],
             contacts: vec![],
             joints: vec![],
+            loops: vec![],
             springs: vec![],
             terrain: Terrain::flat(0.0),
             dt: 1e-3,

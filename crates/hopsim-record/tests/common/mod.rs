@@ -55,6 +55,7 @@ pub fn info() -> RecordingInfo {
             child_point_m: [0.0, 0.0],
             kind: JointInfoKind::Revolute,
         }],
+        loops: vec![],
         springs: vec!["spring".into()],
         terrain: Terrain::step(1.0, 0.05),
         dt: 2e-4,
