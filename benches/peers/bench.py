@@ -10,7 +10,9 @@ of the per-round ratios. Every measurement's z is checked against the other solv
 Rollout: MuJoCo's native rollout (mujoco.rollout.rollout, in this process) of the planar
 Robbit in robbit.xml, and hopsim's run loop on scenes/robbit.toml (peer_rollout), both
 20 s = 100 000 steps of 2e-4 s, alternated the same way. Then the same MJCF file stepped by
-both: gymnasium's hopper.xml, 10 s at its own 0.002 s, zero controls.
+both: gymnasium's hopper.xml, 10 s at its own 0.002 s, zero controls. Then batches: 256
+Robbits (--batch-copies) for 1 s on all cores (--threads), MuJoCo's rollout with one MjData
+per thread against hopsim's Batch.
 
 Exit status: 0, or 1 (after the table) if a solver failed or returned a z that does not
 solve the LCP. Different z that both solve it (an LCP may have several solutions) are
@@ -53,6 +55,9 @@ DURATION = 20.0  # s
 # The MJCF rollout: gymnasium's hopper.xml with zero controls.
 HOPPER_DURATION = 10.0  # s
 HOPPER_TILT = 0.1  # rad, initial rooty
+# The batch rollout: Robbits stepped together on all cores (MuJoCo's rollout with one MjData
+# per thread, hopsim's Batch).
+BATCH_DURATION = 1.0  # s
 
 
 def loud(message):
@@ -247,24 +252,32 @@ def import_mujoco():
     return mujoco, np
 
 
-def interleaved_rollouts(args, mujoco, np, model, control, hopsim_cmd, label, data=None):
-    """Times MuJoCo's native rollout of `model` with the open-loop `control` (nstep x nu)
-    from the state in `data` (default: the model's initial state) against hopsim's
-    `peer_rollout` command, alternating which goes first; returns (table row, MuJoCo rates,
-    hopsim rates, hopsim's last JSON line)."""
+def rollout_timer(mujoco, np, model, control, data=None, copies=1, threads=1):
+    """A function timing MuJoCo's native rollout of `model` with the open-loop `control`
+    (nstep x nu) from the state in `data` (default: the model's initial state), `copies`
+    copies on `threads` threads; it returns the copies' steps together per second."""
     nstep = control.shape[0]
     data = data or mujoco.MjData(model)
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     state0 = np.zeros(mujoco.mj_stateSize(model, spec))
     mujoco.mj_getState(model, data, state0, spec)
-    out = np.zeros((1, nstep, state0.size))
-    initial, control = state0[None], control[None]
+    out = np.zeros((copies, nstep, state0.size))
+    initial = np.repeat(state0[None], copies, axis=0)
+    control = np.repeat(control[None], copies, axis=0)
+    datas = data if threads == 1 else [mujoco.MjData(model) for _ in range(threads)]
 
-    def mujoco_rate():
+    def rate():
         start = time.perf_counter()
-        mujoco.rollout.rollout(model, data, initial, control, state=out)
-        return nstep / (time.perf_counter() - start)
+        mujoco.rollout.rollout(model, datas, initial, control, state=out)
+        return copies * nstep / (time.perf_counter() - start)
 
+    return rate
+
+
+def interleaved_rollouts(args, mujoco_rate, nstep, hopsim_cmd, label):
+    """Times `mujoco_rate` (see `rollout_timer`) against hopsim's `peer_rollout` command,
+    alternating which goes first; returns (table row, MuJoCo rates, hopsim rates, hopsim's
+    last JSON line)."""
     mujoco_rate()  # warm-up
     mj, hs = [], []
     hop = None
@@ -291,8 +304,9 @@ def bench_rollout(args):
     mujoco, np = import_mujoco()
     model = mujoco.MjModel.from_xml_path(str(HERE / "robbit.xml"))
     ctrl, info = robbit_controls(mujoco, np, model, scene_control(args.scene))
-    row, mj, hs, hop = interleaved_rollouts(args, mujoco, np, model, ctrl, [args.scene],
-                                            f"Robbit, {DURATION:g} s")
+    row, mj, hs, hop = interleaved_rollouts(
+        args, rollout_timer(mujoco, np, model, ctrl), ctrl.shape[0], [args.scene],
+        f"Robbit, {DURATION:g} s")
     note = (f"Robbit's trajectories (not the same: soft against rigid contact, damper "
             f"against lock brake): MuJoCo {mujoco.__version__}: {info['brakes']} brakes, "
             f"{info['takeoffs']} contact losses, in contact in {info['contact_steps']} of "
@@ -330,10 +344,10 @@ def bench_hopper(args):
     data = mujoco.MjData(model)
     data.qpos[2] = HOPPER_TILT  # rooty: the coordinates are MuJoCo's qpos in both
     row, mj, hs, hop = interleaved_rollouts(
-        args, mujoco, np, model, ctrl,
+        args, rollout_timer(mujoco, np, model, ctrl, data), nstep,
         ["--set", f"simulation.duration={HOPPER_DURATION}", "--set",
          f"initial.q.2={HOPPER_TILT}", str(path)],
-        f"Hopper (MJCF), {HOPPER_DURATION:g} s", data)
+        f"Hopper (MJCF), {HOPPER_DURATION:g} s")
     data = mujoco.MjData(model)
     data.qpos[2] = HOPPER_TILT
     for _ in range(nstep):
@@ -344,6 +358,26 @@ def bench_hopper(args):
     result = {"mujoco_steps_per_s": mj, "hopsim_steps_per_s": hs,
               "ratio": statistics.median(hs) / statistics.median(mj)}
     return row, note, result
+
+
+def bench_batch(args):
+    """`--batch-copies` Robbits stepped together on `--threads` threads for BATCH_DURATION:
+    MuJoCo's rollout of robbit.xml with one MjData per thread, against hopsim's `Batch`
+    (peer_rollout --batch); the speed is the copies' steps together per second."""
+    mujoco, np = import_mujoco()
+    model = mujoco.MjModel.from_xml_path(str(HERE / "robbit.xml"))
+    ctrl, _ = robbit_controls(mujoco, np, model, scene_control(args.scene))
+    nstep = int(round(BATCH_DURATION / model.opt.timestep))
+    n, threads = args.batch_copies, args.threads
+    timer = rollout_timer(mujoco, np, model, ctrl[:nstep], copies=n, threads=threads)
+    row, mj, hs, _ = interleaved_rollouts(
+        args, timer, nstep,
+        ["--batch", str(n), "--threads", str(threads), "--set",
+         f"simulation.duration={BATCH_DURATION}", args.scene],
+        f"{n} Robbits, {threads} threads, {BATCH_DURATION:g} s")
+    result = {"copies": n, "threads": threads, "mujoco_steps_per_s": mj,
+              "hopsim_steps_per_s": hs, "ratio": statistics.median(hs) / statistics.median(mj)}
+    return row, result
 
 
 def machine():
@@ -370,7 +404,9 @@ def main():
     p.add_argument("--batches", type=int, default=31)
     p.add_argument("--batch-us", type=float, default=200.0)
     p.add_argument("--rollout-runs", type=int, default=3)
-    p.add_argument("--only", choices=["lcp", "rollout", "hopper"])
+    p.add_argument("--only", choices=["lcp", "rollout", "hopper", "batch"])
+    p.add_argument("--batch-copies", type=int, default=256)
+    p.add_argument("--threads", type=int, default=os.cpu_count() or 1)
     p.add_argument("--json", help="also write the raw measurements here")
     args = p.parse_args()
 
@@ -389,6 +425,9 @@ def main():
         row, note, raw["hopper"] = bench_hopper(args)
         rollout_rows.append(row)
         notes.append(note)
+    if args.only in (None, "batch"):
+        row, raw["batch"] = bench_batch(args)
+        rollout_rows.append(row)
     if rollout_rows:
         rollout_table = table(["rollout", "MuJoCo steps/s", "hopsim steps/s",
                                "ratio hopsim/MuJoCo", "ratio range over rounds"], rollout_rows)

@@ -4,8 +4,11 @@
 //! summary) and prints the median speed in steps per second of wall time:
 //!
 //! ```text
-//! peer_rollout [--runs R] [--set KEY=VALUE]... [SCENE.toml | MODEL.xml]
+//! peer_rollout [--runs R] [--batch N --threads T] [--set KEY=VALUE]... [SCENE.toml | MODEL.xml]
 //! ```
+//!
+//! With `--batch N`, `N` copies stepped together by [`hopsim_sim::Batch`] on `T` threads
+//! (default 1): the speed is then the copies' steps together per second.
 //!
 //! One untimed warm-up run, then `R` timed runs (default 5). Prints one JSON line:
 //! `{"scene", "steps", "runs", "median_steps_per_s", "steps_per_s": [...], "hops", "distance_m"}`
@@ -19,12 +22,16 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 fn usage() -> ExitCode {
-    eprintln!("usage: peer_rollout [--runs R] [--set KEY=VALUE]... [SCENE.toml | MODEL.xml]");
+    eprintln!(
+        "usage: peer_rollout [--runs R] [--batch N --threads T] [--set KEY=VALUE]... \
+         [SCENE.toml | MODEL.xml]"
+    );
     ExitCode::from(2)
 }
 
 fn main() -> ExitCode {
     let mut runs: usize = 5;
+    let (mut batch, mut threads): (usize, usize) = (0, 1);
     let mut overrides: Vec<Override> = Vec::new();
     let mut path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes/robbit.toml");
     let mut args = std::env::args().skip(1);
@@ -32,6 +39,14 @@ fn main() -> ExitCode {
         match arg.as_str() {
             "--runs" => match args.next().and_then(|v| v.parse().ok()) {
                 Some(r) if r > 0 => runs = r,
+                _ => return usage(),
+            },
+            "--batch" => match args.next().and_then(|v| v.parse().ok()) {
+                Some(n) if n > 0 => batch = n,
+                _ => return usage(),
+            },
+            "--threads" => match args.next().and_then(|v| v.parse().ok()) {
+                Some(t) if t > 0 => threads = t,
                 _ => return usage(),
             },
             "--set" => match args.next().and_then(|v| v.parse().ok()) {
@@ -51,6 +66,14 @@ fn main() -> ExitCode {
         }
     };
     let steps = (scene.settings.duration / scene.settings.dt).round() as u64;
+    let copies = batch.max(1) as f64;
+    let simulate = |scene: &Scene, steps: u64| {
+        if batch == 0 {
+            simulate(scene, steps)
+        } else {
+            simulate_batch(scene, steps, batch, threads)
+        }
+    };
     let (hops, distance) = match simulate(&scene, steps) {
         Ok(outcome) => outcome,
         Err(e) => {
@@ -64,7 +87,7 @@ fn main() -> ExitCode {
         let outcome = simulate(black_box(&scene), steps).expect("the warm-up run passed");
         let wall = start.elapsed().as_secs_f64();
         black_box(outcome);
-        rates.push(steps as f64 / wall);
+        rates.push(copies * steps as f64 / wall);
     }
     let mut sorted = rates.clone();
     sorted.sort_by(f64::total_cmp);
@@ -85,6 +108,24 @@ fn main() -> ExitCode {
         distance
     );
     ExitCode::SUCCESS
+}
+
+/// `copies` copies of the scene stepped `steps` steps together on `threads` threads; the
+/// hops and displacement of the first copy.
+fn simulate_batch(
+    scene: &Scene,
+    steps: u64,
+    copies: usize,
+    threads: usize,
+) -> Result<(u64, f64), Box<dyn std::error::Error>> {
+    let mut batch = hopsim_sim::Batch::new(scene, copies, threads)?;
+    let x0 = batch.q()[0];
+    batch.step(steps as usize);
+    if let Some(i) = batch.done().iter().position(|&d| d) {
+        return Err(format!("copy {i} failed: {:?}", batch.error(i)).into());
+    }
+    let first = batch.simulation(0).ok_or("no copy 0")?;
+    Ok((first.hops(), batch.q()[0] - x0))
 }
 
 /// Runs `steps` steps from the scene's initial state with no observer; returns the number
