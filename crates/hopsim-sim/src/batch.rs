@@ -7,7 +7,7 @@
 //! that are not done and writes their rows of the batch's flat arrays. A copy never sees another, so copy `i` equals a
 //! single [`Simulation`] with the same inputs bit for bit, whatever the thread count.
 
-use crate::{RunError, Setup, Simulation, StateProblem};
+use crate::{Observer, RunError, Setup, Simulation, StateProblem};
 use hopsim_step::State;
 use std::sync::Arc;
 
@@ -29,18 +29,34 @@ pub enum BatchError {
         expected_coordinates: usize,
         expected_actuators: usize,
     },
+    #[error(
+        "copy {copy} has {shapes} shapes, copy 0 {expected}: every copy must have the same shapes"
+    )]
+    Shapes {
+        copy: usize,
+        shapes: usize,
+        expected: usize,
+    },
     #[error("cannot start {threads} threads: {message}")]
     Threads { threads: usize, message: String },
     #[error("copy {copy} is out of range: the batch has {copies} copies")]
     NoSuchCopy { copy: usize, copies: usize },
     #[error("copy {copy}: {problem}")]
     State { copy: usize, problem: StateProblem },
+    #[error("copy {copy} is watched by an observer (a recording): detach it first")]
+    Observed { copy: usize },
+    #[error("copy {copy}: {error}")]
+    Run { copy: usize, error: RunError },
 }
 
-/// One copy: its simulation and the error that stopped it.
+/// What watches a copy of a batch, on the thread that steps it.
+pub type BatchObserver = Box<dyn Observer + Send>;
+
+/// One copy: its simulation, the error that stopped it and what watches it.
 struct Lane {
     sim: Simulation,
     error: Option<RunError>,
+    observer: Option<BatchObserver>,
 }
 
 impl Lane {
@@ -48,7 +64,11 @@ impl Lane {
         let mut sim = Simulation::shared(setup);
         // Observers of a batch see no energies; the state does not depend on the account.
         sim.set_ledger(false);
-        Self { sim, error: None }
+        Self {
+            sim,
+            error: None,
+            observer: None,
+        }
     }
 
     /// `steps` steps under `controls`, or fewer if one fails (the error is kept; later
@@ -61,7 +81,11 @@ impl Lane {
         }
         if self.error.is_none() {
             for _ in 0..steps {
-                if let Err(e) = self.sim.step(&mut ()) {
+                let stepped = match &mut self.observer {
+                    Some(observer) => self.sim.step(observer.as_mut()),
+                    None => self.sim.step(&mut ()),
+                };
+                if let Err(e) = stepped {
                     self.error = Some(e);
                     break;
                 }
@@ -79,14 +103,18 @@ struct Part<'a> {
     controls: &'a mut [f64],
     in_contact: &'a mut [bool],
     done: &'a mut [bool],
+    shape_loaded: &'a mut [bool],
+    shape_forces: &'a mut [f64],
     nq: usize,
     nu: usize,
+    /// Shapes per copy.
+    ns: usize,
 }
 
 impl Part<'_> {
     /// Copies `..mid` and `mid..`.
     fn split(self, mid: usize) -> (Self, Self) {
-        let (nq, nu) = (self.nq, self.nu);
+        let (nq, nu, ns) = (self.nq, self.nu, self.ns);
         let (lanes, lanes_b) = self.lanes.split_at_mut(mid);
         let (t, t_b) = self.t.split_at_mut(mid);
         let (q, q_b) = self.q.split_at_mut(mid * nq);
@@ -94,6 +122,8 @@ impl Part<'_> {
         let (controls, controls_b) = self.controls.split_at_mut(mid * nu);
         let (in_contact, in_contact_b) = self.in_contact.split_at_mut(mid);
         let (done, done_b) = self.done.split_at_mut(mid);
+        let (shape_loaded, shape_loaded_b) = self.shape_loaded.split_at_mut(mid * ns);
+        let (shape_forces, shape_forces_b) = self.shape_forces.split_at_mut(mid * ns * 2);
         let a = Part {
             lanes,
             t,
@@ -102,8 +132,11 @@ impl Part<'_> {
             controls,
             in_contact,
             done,
+            shape_loaded,
+            shape_forces,
             nq,
             nu,
+            ns,
         };
         let b = Part {
             lanes: lanes_b,
@@ -113,8 +146,11 @@ impl Part<'_> {
             controls: controls_b,
             in_contact: in_contact_b,
             done: done_b,
+            shape_loaded: shape_loaded_b,
+            shape_forces: shape_forces_b,
             nq,
             nu,
+            ns,
         };
         (a, b)
     }
@@ -136,11 +172,11 @@ impl Part<'_> {
         }
     }
 
-    /// Copy `i`'s state, controls (those that acted), contact flag and done flag into its
-    /// rows.
+    /// Copy `i`'s state, controls (those that acted), contact flags and forces and done
+    /// flag into its rows.
     fn gather(&mut self, i: usize) {
         let lane = &self.lanes[i];
-        let (nq, nu) = (self.nq, self.nu);
+        let (nq, nu, ns) = (self.nq, self.nu, self.ns);
         let state = lane.sim.state();
         self.t[i] = state.t;
         self.q[i * nq..(i + 1) * nq].copy_from_slice(state.q.as_slice());
@@ -148,6 +184,10 @@ impl Part<'_> {
         self.controls[i * nu..(i + 1) * nu].copy_from_slice(lane.sim.controls());
         self.in_contact[i] = lane.sim.in_contact();
         self.done[i] = lane.error.is_some();
+        lane.sim.shape_contacts_to(
+            &mut self.shape_loaded[i * ns..(i + 1) * ns],
+            &mut self.shape_forces[i * ns * 2..(i + 1) * ns * 2],
+        );
     }
 }
 
@@ -167,6 +207,9 @@ pub struct Batch {
     controls: Vec<f64>,
     in_contact: Vec<bool>,
     done: Vec<bool>,
+    shape_loaded: Vec<bool>,
+    shape_forces: Vec<f64>,
+    ns: usize,
     /// `None` for one thread (the copies are stepped on the caller's thread).
     pool: Option<rayon::ThreadPool>,
     threads: usize,
@@ -215,6 +258,14 @@ impl Batch {
             ),
         };
         let n = setups.len();
+        let ns = first.model.shapes().len();
+        if let Some(copy) = setups.iter().position(|s| s.model.shapes().len() != ns) {
+            return Err(BatchError::Shapes {
+                copy,
+                shapes: setups[copy].model.shapes().len(),
+                expected: ns,
+            });
+        }
         let lanes = setups.iter().map(|s| Lane::new(s.clone())).collect();
         let mut batch = Self {
             setups,
@@ -227,6 +278,9 @@ impl Batch {
             controls: vec![0.0; n * nu],
             in_contact: vec![false; n],
             done: vec![false; n],
+            shape_loaded: vec![false; n * ns],
+            shape_forces: vec![0.0; n * ns * 2],
+            ns,
             pool,
             threads,
         };
@@ -294,6 +348,23 @@ impl Batch {
         &self.in_contact
     }
 
+    /// Shapes per copy.
+    pub fn shapes(&self) -> usize {
+        self.ns
+    }
+
+    /// Per copy and shape, `n × shapes` row-major: whether the shape carried a normal
+    /// percussion in the copy's last step ([`Simulation::shape_contacts_to`]).
+    pub fn shape_in_contact(&self) -> &[bool] {
+        &self.shape_loaded
+    }
+
+    /// Per copy and shape, `n × shapes × 2` row-major: the shape's normal and tangential
+    /// contact forces over the copy's last step, N ([`Simulation::shape_contacts_to`]).
+    pub fn shape_contact_forces(&self) -> &[f64] {
+        &self.shape_forces
+    }
+
     /// Whether each copy is done (a step of it failed: see [`Batch::error`]); a done copy
     /// is not stepped until it is reset.
     pub fn done(&self) -> &[bool] {
@@ -323,27 +394,56 @@ impl Batch {
         self.pool = pool;
     }
 
+    /// Shows copy `i`'s current state to `observer` ([`Observer::on_start`]) and then
+    /// every step of it, with the energy account on, started at the current state (the
+    /// copies nobody watches keep none; the states do not depend on it), until
+    /// [`Batch::detach`]. A copy being watched is
+    /// neither reset nor restarted at another state ([`BatchError::Observed`]).
+    pub fn observe(&mut self, i: usize, mut observer: BatchObserver) -> Result<(), BatchError> {
+        self.check_unobserved(i)?;
+        let lane = &mut self.lanes[i];
+        lane.sim.restart_ledger();
+        let started = lane.sim.start(observer.as_mut());
+        if let Err(error) = started {
+            lane.sim.set_ledger(false);
+            return Err(BatchError::Run { copy: i, error });
+        }
+        lane.observer = Some(observer);
+        Ok(())
+    }
+
+    /// The observer of copy `i`, no longer shown its steps.
+    pub fn detach(&mut self, i: usize) -> Option<BatchObserver> {
+        let lane = self.lanes.get_mut(i)?;
+        lane.sim.set_ledger(false);
+        lane.observer.take()
+    }
+
     /// Copy `i` anew at its setup's initial state (its controller and shapes too), not
     /// done.
     pub fn reset(&mut self, i: usize) -> Result<(), BatchError> {
-        self.check(i)?;
+        self.check_unobserved(i)?;
         self.lanes[i] = Lane::new(self.setups[i].clone());
         self.gather(i);
         Ok(())
     }
 
     /// Every copy anew ([`Batch::reset`]).
-    pub fn reset_all(&mut self) {
+    pub fn reset_all(&mut self) -> Result<(), BatchError> {
+        if let Some(copy) = self.lanes.iter().position(|l| l.observer.is_some()) {
+            return Err(BatchError::Observed { copy });
+        }
         for i in 0..self.len() {
             self.lanes[i] = Lane::new(self.setups[i].clone());
             self.gather(i);
         }
+        Ok(())
     }
 
     /// Restarts copy `i` at `state`, checked as [`Simulation::set_state`] does; a done
     /// copy is reset first. On an error nothing changes.
     pub fn set_state(&mut self, i: usize, state: State) -> Result<(), BatchError> {
-        self.check(i)?;
+        self.check_unobserved(i)?;
         let problem = |problem| BatchError::State { copy: i, problem };
         if self.lanes[i].error.is_some() {
             let mut lane = Lane::new(self.setups[i].clone());
@@ -354,6 +454,15 @@ impl Batch {
         }
         self.gather(i);
         Ok(())
+    }
+
+    /// [`Batch::check`], and no observer on the copy.
+    fn check_unobserved(&self, copy: usize) -> Result<(), BatchError> {
+        self.check(copy)?;
+        match self.lanes[copy].observer {
+            Some(_) => Err(BatchError::Observed { copy }),
+            None => Ok(()),
+        }
     }
 
     fn check(&self, copy: usize) -> Result<(), BatchError> {
@@ -376,8 +485,11 @@ impl Batch {
             controls: &mut self.controls,
             in_contact: &mut self.in_contact,
             done: &mut self.done,
+            shape_loaded: &mut self.shape_loaded,
+            shape_forces: &mut self.shape_forces,
             nq: self.nq,
             nu: self.nu,
+            ns: self.ns,
         }
     }
 
