@@ -481,7 +481,7 @@ impl PySimulation {
         let rate = positive("record_rate", record_rate, scene.settings.record_rate)?;
         let sim = self.sim.get_mut().unwrap_or_else(|e| e.into_inner());
         let recording = self.recording.get_mut().unwrap_or_else(|e| e.into_inner());
-        let mut recording = recording.as_mut();
+        let recording = recording.as_mut();
         guard(py, WHAT, || {
             let (report, kept, mut poll) = py.detach(|| {
                 let kept = Arc::new(Mutex::new(Frames::default()));
@@ -491,7 +491,7 @@ impl PySimulation {
                     RecordingObserver::with_rate(recorders, &scene, rate)
                 });
                 let mut poll = SignalPoll::new();
-                let mut watch = Steps(recording.as_deref_mut());
+                let mut watch = Steps(recording);
                 let report =
                     run_simulation(sim, duration, &mut (&mut recorder, (&mut poll, &mut watch)))
                         .and_then(|r| recorder.map_or(Ok(()), |o| o.finish()).map(|()| r));
