@@ -16,6 +16,7 @@ use std::process::Command;
 const TEST_PACKAGES: &[&str] = &[
     "numpy",
     "pytest",
+    "mcap",
     "dask[distributed]",
     "pandas",
     "matplotlib",

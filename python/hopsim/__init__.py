@@ -55,6 +55,9 @@ from ._hopsim import (
 )
 from ._model import Model
 from ._optimize import OptimizeResult, optimize
+from ._recorder import Recorder
+from ._recorder import outputs_of as _outputs_of
+from ._recorder import speed_of as _speed_of
 from ._sweep import SweepTable, sweep
 from ._trajectory import Recording, Trajectory
 
@@ -67,6 +70,7 @@ __all__ = [
     "InternalError",
     "Model",
     "OptimizeResult",
+    "Recorder",
     "Recording",
     "Scene",
     "SceneError",
@@ -81,7 +85,34 @@ __all__ = [
 ]
 
 
-class Simulation(_hopsim.Simulation):
+class _Named:
+    """The names of a simulated scene's parts, in index order (every method that takes an
+    index takes the name too)."""
+
+    scene: Scene
+
+    @property
+    def body_names(self) -> list[str]:
+        """The bodies' names."""
+        return self.scene._part_names("body")
+
+    @property
+    def shape_names(self) -> list[str]:
+        """The contact shapes' names."""
+        return self.scene._part_names("shape")
+
+    @property
+    def joint_names(self) -> list[str]:
+        """The revolute and prismatic joints' names (each named after its body)."""
+        return self.scene._part_names("joint")
+
+    @property
+    def actuator_names(self) -> list[str]:
+        """The actuators' names (the order of the controls)."""
+        return self.scene._part_names("actuator")
+
+
+class Simulation(_Named, _hopsim.Simulation):
     """A scene being simulated, one step at a time or a span at a time.
 
     ``Simulation(scene)`` starts at the scene's initial state. ``t``, ``q``, ``u``,
@@ -123,6 +154,24 @@ class Simulation(_hopsim.Simulation):
         """The events of the last step (take-off, touchdown, brake, ...), as recorded."""
         return _json.loads(self._events())
 
+    def record(
+        self,
+        *outputs: str | _os.PathLike[str],
+        record_rate: float | None = None,
+        speed: float | str = 1.0,
+    ) -> Recorder:
+        """Records the run from the current state on to ``outputs``, with the recorders
+        and channels of ``hopsim run``: paths ending in ``.mcap``, ``.rrd`` or ``.csv``
+        (events in ``FILE.events.csv``), or ``"live"`` (a Rerun viewer, paced by ``speed``
+        simulated seconds per second, or ``"max"``); with none, to the run summary only.
+        Frames at ``record_rate`` Hz (default:
+        the scene's ``simulation.record_rate``) and at every step with an event, whoever
+        steps: ``step`` with the scene's controller or an :class:`Actuation`, and ``run``.
+        Returns a :class:`Recorder`; ``close()`` (or the end of a ``with`` block) completes
+        the files and returns the run summary. ``set_state`` is refused while recording."""
+        self._record_open(_outputs_of(outputs), record_rate, _speed_of(speed))
+        return Recorder(list(outputs), self._record_close, self._record_abort)
+
     @property
     def state(self) -> tuple[float, _np.ndarray, _np.ndarray]:
         """``(t, q, u)`` (copies)."""
@@ -142,7 +191,7 @@ def read_mcap(path: str | _os.PathLike[str]) -> Recording:
 del annotations
 
 
-class Batch(_hopsim.Batch):
+class Batch(_Named, _hopsim.Batch):
     """``n`` copies of a scene (or of a :class:`Model`'s scene) stepped together on
     ``threads`` Rust threads (default: the machine's cores), the GIL released; copy ``i``
     equals a :class:`Simulation` of the scene with the same start and controls bit for bit,
@@ -177,6 +226,26 @@ class Batch(_hopsim.Batch):
         if isinstance(scene, Model):
             scene = scene.scene()
         return super().__new__(cls, scene, n, threads, brakes, switches)
+
+    def record(
+        self,
+        i: int,
+        *outputs: str | _os.PathLike[str],
+        record_rate: float | None = None,
+        speed: float | str = 1.0,
+    ) -> Recorder:
+        """Records copy ``i`` from its current state on, as :meth:`Simulation.record`
+        records a simulation (the same recorders, channels and summary; the copy's energy
+        account is switched on while it is recorded). Several copies can be recorded at
+        once. ``reset`` and ``set_state`` of a copy being recorded are refused
+        (``RuntimeError``) until its recording ends; a copy whose step fails stops its
+        recording, and ``close()`` then raises naming the partial files kept."""
+        self._record_open(i, _outputs_of(outputs), record_rate, _speed_of(speed))
+        return Recorder(
+            list(outputs),
+            lambda: self._record_close(i),
+            lambda reason: self._record_abort(i, reason),
+        )
 
 
 # Gymnasium's environments (hopsim.envs) are registered when gymnasium is installed.

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import csv
+import inspect
 import io
 import math
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -152,6 +153,7 @@ def sweep(
     baselines: Optional[Mapping[str, Mapping[str, Any]]] = None,
     client: Any = None,
     chunk_size: Optional[int] = None,
+    controller: Optional[Callable[..., Any]] = None,
 ) -> SweepTable:
     """Runs ``scene`` at every point of ``grid`` (``{key: values}``, the last key varying
     fastest) and each baseline (``{name: {key: value}}``), as ``hopsim sweep`` does, and
@@ -166,7 +168,18 @@ def sweep(
     ``wall_time_s``). Raises ``SceneError`` if the grid's first point or a baseline is
     not a valid scene, ``ValueError`` for an axis given twice or a baseline named like
     another.
+
+    With ``controller``, a factory of controllers written in Python, every run is driven
+    by ``controller(**params)``: called before each step with the simulation, the
+    controller returns an :class:`Actuation` for the step (or None: the scene's controller
+    acts, under the controls it set). The grid keys (and baseline keys) that name a
+    parameter of the factory are its ``params``; the others are scene keys. Such runs
+    hold the GIL: without ``client`` they run one after the other in this process; with
+    one, their chunks run on the cluster's workers (the factory must pickle). The table
+    has the columns of a sweep over scene keys, its figures from the same run summary.
     """
+    if controller is not None:
+        return _controller_sweep(scene, grid, baselines, client, chunk_size, controller)
     items = _grid_items(grid)
     lines = _baselines(baselines)
     runs = _hopsim.sweep_runs(scene, items, lines)
@@ -178,11 +191,7 @@ def sweep(
             if partial is not None:
                 error.table = SweepTable._from_csv_parts([partial])
             raise
-    if chunk_size is None:
-        threads = sum(client.nthreads().values()) or 1
-        chunk_size = max(1, math.ceil(runs / (CHUNKS_PER_THREAD * threads)))
-    if chunk_size < 1:
-        raise ValueError(f"chunk_size must be at least 1, got {chunk_size}")
+    chunk_size = _chunk_size(client, runs, chunk_size)
     [scene_future] = client.scatter([scene], broadcast=True)
     futures = [
         client.submit(
@@ -197,3 +206,115 @@ def sweep(
         for start in range(0, runs, chunk_size)
     ]
     return SweepTable._from_csv_parts(client.gather(futures))
+
+
+def _chunk_size(client: Any, runs: int, chunk_size: Optional[int]) -> int:
+    """Runs per chunk on a Dask cluster: ``chunk_size``, or about sixteen chunks per worker
+    thread."""
+    if chunk_size is None:
+        threads = sum(client.nthreads().values()) or 1
+        chunk_size = max(1, math.ceil(runs / (CHUNKS_PER_THREAD * threads)))
+    if chunk_size < 1:
+        raise ValueError(f"chunk_size must be at least 1, got {chunk_size}")
+    return chunk_size
+
+
+#: One run of a sweep over a Python controller: its label, its grid values (NaN for a
+#: baseline), its scene overrides and the controller factory's parameters.
+ControlledRun = Tuple[str, List[float], Dict[str, Any], Dict[str, Any]]
+
+
+def _controlled_runs(
+    scene: Scene,
+    grid: Mapping[str, Iterable[float]],
+    baselines: Optional[Mapping[str, Mapping[str, Any]]],
+    controller: Callable[..., Any],
+) -> Tuple[List[str], List[ControlledRun]]:
+    """The grid's keys and the runs (grid points in row-major order, then the baselines),
+    each point's keys split between the factory's parameters and the scene; the grid's
+    first point and every baseline checked as scenes."""
+    items = _grid_items(grid)
+    params = inspect.signature(controller).parameters
+    keys = [key for key, _ in items]
+
+    def split(point: Mapping[str, Any]) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+        own = {k: v for k, v in point.items() if k in params}
+        return {k: v for k, v in point.items() if k not in params}, own
+
+    runs: List[ControlledRun] = []
+    for values in np.ndindex(*(len(v) for _, v in items)):
+        point = [items[a][1][i] for a, i in enumerate(values)]
+        runs.append(("grid", point, *split(dict(zip(keys, point)))))
+    checked = runs[:1]
+    for name, overrides in (_baselines(baselines) or {}).items():
+        if name == "grid":
+            raise ValueError("a baseline cannot be named 'grid': that label marks the grid's rows")
+        checked.append((name, [math.nan] * len(keys), *split(overrides)))
+    for _, _, overrides, _ in checked:
+        scene.with_overrides(overrides)
+    return keys, runs + checked[1:]
+
+
+def _controlled_run(scene: Scene, run: ControlledRun, controller: Callable[..., Any]) -> List[str]:
+    """One run of a sweep over a Python controller: its row of the table (CSV cells)."""
+    from . import HopsimError, Simulation
+
+    label, point, overrides, params = run
+    values = [_number(v) for v in point]
+    try:
+        run_scene = scene.with_overrides(overrides)
+        drive = controller(**params)
+        sim = Simulation(run_scene)
+        recorder = sim.record()
+        for _ in range(round(run_scene.duration / run_scene.dt)):
+            actuation = drive(sim)
+            if actuation is None:
+                sim.step()
+            else:
+                sim.step(actuation=actuation)
+        recorder.close()
+    except HopsimError as error:
+        return [label, *values, "error", str(error)] + [""] * len(_hopsim.sweep_figure_names())
+    return [label, *values, "ok", ""] + [_number(v) for _, v in recorder.figures]
+
+
+def _number(x: float) -> str:
+    """A number as ``sweep.csv`` writes it (the shortest text that reads back exactly,
+    never an exponent); empty when not finite."""
+    x = float(x)
+    if not math.isfinite(x):
+        return ""
+    return np.format_float_positional(x, trim="-")
+
+
+def _controlled_chunk(scene: Scene, runs: List[ControlledRun], controller: Callable[..., Any]) -> List[List[str]]:
+    """A chunk of a sweep over a Python controller, on a Dask worker."""
+    return [_controlled_run(scene, run, controller) for run in runs]
+
+
+def _controller_sweep(
+    scene: Scene,
+    grid: Mapping[str, Iterable[float]],
+    baselines: Optional[Mapping[str, Mapping[str, Any]]],
+    client: Any,
+    chunk_size: Optional[int],
+    controller: Callable[..., Any],
+) -> SweepTable:
+    """:func:`sweep` with a controller factory (see there)."""
+    keys, runs = _controlled_runs(scene, grid, baselines, controller)
+    if client is None:
+        rows = [_controlled_run(scene, run, controller) for run in runs]
+    else:
+        size = _chunk_size(client, len(runs), chunk_size)
+        [scene_future] = client.scatter([scene], broadcast=True)
+        futures = [
+            client.submit(_controlled_chunk, scene_future, runs[i : i + size], controller, pure=False)
+            for i in range(0, len(runs), size)
+        ]
+        rows = [row for chunk in client.gather(futures) for row in chunk]
+    header = ["label", *keys, "status", "error", *_hopsim.sweep_figure_names()]
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(rows)
+    return SweepTable(header, rows, text.getvalue())

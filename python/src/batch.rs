@@ -2,6 +2,7 @@
 //! their states, controls, contact flags and done mask in numpy arrays filled in place.
 
 use crate::errors::guard;
+use crate::recording::{Closed, SharedWatch, Watch};
 use crate::scene::PyScene;
 use crate::signals::SignalPoll;
 use crate::simulation::check_step_count;
@@ -10,11 +11,12 @@ use hopsim_sim::{Batch, BatchError};
 use hopsim_step::State;
 use nalgebra::DVector;
 use numpy::{
-    AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2, PyArrayMethods,
+    AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike1, PyArrayLike2, PyArrayMethods,
     PyUntypedArrayMethods,
 };
-use pyo3::exceptions::{PyIndexError, PyValueError};
+use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 /// Copy steps (copies × steps) a batch takes between two polls for signals: a few
@@ -25,6 +27,9 @@ const POLL_COPY_STEPS: usize = 4096;
 fn batch_error(e: BatchError) -> PyErr {
     match e {
         BatchError::NoSuchCopy { .. } => PyIndexError::new_err(e.to_string()),
+        BatchError::Observed { .. } => {
+            PyRuntimeError::new_err(format!("{e}: close the copy's recording first"))
+        }
         e => PyValueError::new_err(e.to_string()),
     }
 }
@@ -52,6 +57,10 @@ pub struct PyBatch {
     done: Py<PyArray1<bool>>,
     brakes: Py<PyArray2<bool>>,
     switches: Py<PyArray2<bool>>,
+    /// Per copy: its recording under way (`record`), if any.
+    recordings: Vec<Option<SharedWatch>>,
+    shape_in_contact: Py<PyArray2<bool>>,
+    shape_contact_forces: Py<PyArray3<f64>>,
 }
 
 /// `n × width` zeros, writeable by Python or not.
@@ -87,7 +96,30 @@ fn fill<T: numpy::Element + Copy, D: numpy::ndarray::Dimension>(
     }
 }
 
+/// The error of a copy without a recording.
+fn not_recorded(i: usize) -> PyErr {
+    PyRuntimeError::new_err(format!("copy {i} is not being recorded"))
+}
+
 impl PyBatch {
+    /// Copy `i`'s recording, detached from it, with the error that stopped the copy.
+    fn take_recording(&mut self, i: usize) -> PyResult<Watch> {
+        let shared = self
+            .recordings
+            .get_mut(i)
+            .and_then(Option::take)
+            .ok_or_else(|| not_recorded(i))?;
+        let batch = self.batch.get_mut().unwrap_or_else(|e| e.into_inner());
+        drop(batch.detach(i));
+        let mut watch = shared
+            .into_inner()
+            .ok_or_else(|| PyRuntimeError::new_err("the recording is still shared"))?;
+        if let Some(e) = batch.error(i) {
+            watch.stop(e);
+        }
+        Ok(watch)
+    }
+
     fn batch(&mut self) -> &mut Batch {
         self.batch.get_mut().unwrap_or_else(|e| e.into_inner())
     }
@@ -101,6 +133,11 @@ impl PyBatch {
         fill(self.controls.bind(py), batch.controls());
         fill(self.in_contact.bind(py), batch.in_contact());
         fill(self.done.bind(py), batch.done());
+        fill(self.shape_in_contact.bind(py), batch.shape_in_contact());
+        fill(
+            self.shape_contact_forces.bind(py),
+            batch.shape_contact_forces(),
+        );
     }
 
     /// The engaged brakes and the shapes' flags as Python left them, into the batch.
@@ -155,6 +192,11 @@ impl PyBatch {
         };
         let t = PyArray1::<f64>::zeros(py, n, false);
         read_only(t.as_any(), false)?;
+        let shapes = batch.shapes();
+        let shape_in_contact = PyArray2::<bool>::zeros(py, [n, shapes], false);
+        read_only(shape_in_contact.as_any(), false)?;
+        let shape_contact_forces = PyArray3::<f64>::zeros(py, [n, shapes, 2], false);
+        read_only(shape_contact_forces.as_any(), false)?;
         let mut this = Self {
             batch: Mutex::new(batch),
             scene: shared,
@@ -167,6 +209,9 @@ impl PyBatch {
             done: flags(false)?,
             brakes: engaged,
             switches: active,
+            recordings: (0..n).map(|_| None).collect(),
+            shape_in_contact: shape_in_contact.unbind(),
+            shape_contact_forces: shape_contact_forces.unbind(),
         };
         this.publish(py);
         Ok(this)
@@ -342,6 +387,21 @@ impl PyBatch {
         self.done.clone_ref(py)
     }
 
+    /// Per copy and shape (`shape_names`): whether the shape carried a normal percussion in
+    /// the copy's last step, (n, n_shapes), filled in place.
+    #[getter]
+    fn shape_in_contact(&self, py: Python<'_>) -> Py<PyArray2<bool>> {
+        self.shape_in_contact.clone_ref(py)
+    }
+
+    /// Per copy and shape: the shape's normal and tangential contact forces over the copy's
+    /// last step, N (as `Simulation.shape_contact_forces`), (n, n_shapes, 2), filled in
+    /// place.
+    #[getter]
+    fn shape_contact_forces(&self, py: Python<'_>) -> Py<PyArray3<f64>> {
+        self.shape_contact_forces.clone_ref(py)
+    }
+
     /// The message of the error that stopped copy `i`, or None.
     fn error(&self, i: usize) -> PyResult<Option<String>> {
         let batch = self.batch.lock().unwrap_or_else(|e| e.into_inner());
@@ -361,10 +421,7 @@ impl PyBatch {
         let batch = self.batch();
         guard(py, "Batch.reset", || match i {
             Some(i) => batch.reset(i).map_err(batch_error),
-            None => {
-                batch.reset_all();
-                Ok(())
-            }
+            None => batch.reset_all().map_err(batch_error),
         })?;
         self.publish(py);
         Ok(())
@@ -409,6 +466,59 @@ impl PyBatch {
         })?;
         self.publish(py);
         Ok(())
+    }
+
+    /// Starts recording copy `i` at its current state, as `Simulation._record_open`
+    /// records a simulation; its energy account is switched on while it is recorded (the
+    /// states do not depend on it). `hopsim.Batch.record` wraps it as a `Recorder`.
+    #[pyo3(signature = (i, outputs, record_rate = None, speed = "1".to_string()))]
+    fn _record_open(
+        &mut self,
+        py: Python<'_>,
+        i: usize,
+        outputs: Vec<String>,
+        record_rate: Option<f64>,
+        speed: String,
+    ) -> PyResult<()> {
+        let scene = self.scene.clone();
+        let batch = self.batch.get_mut().unwrap_or_else(|e| e.into_inner());
+        let sim = batch.simulation(i).ok_or_else(|| {
+            batch_error(BatchError::NoSuchCopy {
+                copy: i,
+                copies: batch.len(),
+            })
+        })?;
+        if self.recordings[i].is_some() {
+            return Err(PyRuntimeError::new_err(format!(
+                "record: copy {i} is already being recorded; close that recording first"
+            )));
+        }
+        let watch = guard(py, "Batch.record", || {
+            Watch::new(sim, &scene, &outputs, record_rate, &speed)
+        })?;
+        let shared = SharedWatch(Arc::new(Mutex::new(watch)));
+        guard(py, "Batch.record", || {
+            batch
+                .observe(i, Box::new(shared.clone()))
+                .map_err(batch_error)
+        })?;
+        self.recordings[i] = Some(shared);
+        Ok(())
+    }
+
+    /// Completes copy `i`'s recording and returns the run summary of the span recorded
+    /// (JSON), as `Simulation._record_close`.
+    fn _record_close(&mut self, py: Python<'_>, i: usize) -> PyResult<Closed> {
+        let watch = self.take_recording(i)?;
+        let batch = self.batch.get_mut().unwrap_or_else(|e| e.into_inner());
+        let sim = batch.simulation(i).ok_or_else(|| not_recorded(i))?;
+        guard(py, "Recorder.close", || watch.close(py, sim))
+    }
+
+    /// Ends copy `i`'s recording without completing it, as `Simulation._record_abort`.
+    fn _record_abort(&mut self, py: Python<'_>, i: usize, reason: &str) -> PyResult<Vec<PathBuf>> {
+        let watch = self.take_recording(i)?;
+        guard(py, "Recorder.abort", || watch.abort(reason))
     }
 
     fn __repr__(&self) -> String {

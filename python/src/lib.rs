@@ -7,7 +7,9 @@ mod batch;
 mod errors;
 mod lcp;
 mod mcap;
+mod names;
 mod optimize;
+mod recording;
 mod scene;
 mod signals;
 mod simulation;
@@ -34,5 +36,6 @@ fn _hopsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mcap::read_mcap, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_runs, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_figure_names, m)?)?;
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! simulations and sweeps made from it.
 
 use crate::errors::{self, guard, Class};
+use crate::names::{part_names, Part};
 use hopsim_control::{ControllerConfig, Release};
 use hopsim_scene::{Location, Override};
 use numpy::PyArray1;
@@ -307,6 +308,24 @@ impl PyScene {
     fn shapes(&self) -> Vec<String> {
         let shapes = &self.scene.model.shapes();
         shapes.iter().map(|s| s.name.clone()).collect()
+    }
+
+    /// The names of the scene's bodies, shapes, joints (named after the bodies they carry)
+    /// or actuators (`part`: `"body"`, `"shape"`, `"joint"` or `"actuator"`), in index
+    /// order: `Simulation.body_names` and its siblings.
+    fn _part_names(&self, part: &str) -> PyResult<Vec<String>> {
+        let part = match part {
+            "body" => Part::Body,
+            "shape" => Part::Shape,
+            "joint" => Part::Joint,
+            "actuator" => Part::Actuator,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "no part '{other}': body, shape, joint or actuator"
+                )))
+            }
+        };
+        Ok(part_names(&self.scene.model, part))
     }
 
     /// Names of the potential contacts (shape feature against terrain feature).

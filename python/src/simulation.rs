@@ -2,10 +2,12 @@
 //! controller or by a controller written in Python.
 
 use crate::errors::{error, guard, internal_error, Class};
+use crate::names::{self, Part};
+use crate::recording::{Closed, Steps, Watch};
 use crate::scene::PyScene;
 use crate::signals::SignalPoll;
 use hopsim_control::ControlEvent;
-use hopsim_model::Vec2;
+use hopsim_model::{Model, Vec2};
 use hopsim_record::{
     frame_columns, frame_values, Event, Frame, RecordError, Recorder, RecorderSet,
 };
@@ -18,11 +20,10 @@ use hopsim_step::{
 use hopsim_studies::run_summary::run_simulation;
 use nalgebra::DVector;
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayMethods};
-use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
 
 /// The Python exception of a run error of `what` (`Simulation.step`, `Simulation.run`):
@@ -70,21 +71,62 @@ fn raise_max_steps(steps: f64) -> String {
 
 /// What a controller written in Python commands for one step: torques held over the step,
 /// impulses applied inside it, velocity locks (brakes) and contact-shape switches
-/// (docs/physics.md §3, §5.3, §5.4). Bodies and shapes are indices (`Scene.bodies`,
-/// `Scene.shapes`). Build one, fill it before each step, pass it to `Simulation.step`,
-/// and `clear()` it: the buffers are reused.
+/// (docs/physics.md §3, §5.3, §5.4). Bodies, joints and shapes are indices (`Scene.bodies`,
+/// `Scene.shapes`) or, for an actuation made for a scene (`Actuation(scene)`,
+/// `Simulation.actuation()`), names too. Build one, fill it before each step, pass it to
+/// `Simulation.step`, and `clear()` it: the buffers are reused.
 #[pyclass(name = "Actuation", module = "hopsim")]
 #[derive(Default)]
 pub struct PyActuation {
     actuation: Actuation,
     events: Vec<ControlEvent>,
+    /// The model whose names the commands may use.
+    model: Option<Arc<Model>>,
+}
+
+impl PyActuation {
+    /// A model's actuation: names of its parts are accepted.
+    pub(crate) fn of(model: Arc<Model>) -> Self {
+        Self {
+            model: Some(model),
+            ..Self::default()
+        }
+    }
+
+    /// The index `key` stands for: an index as given (checked at the step) without a
+    /// model, else a name or index of the model's parts.
+    fn index(&self, part: Part, key: &Bound<'_, PyAny>) -> PyResult<usize> {
+        match &self.model {
+            Some(model) => names::index(model, part, key),
+            None => key.extract::<usize>().map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "expected an index (int), got {key}: an Actuation() made without a scene \
+                     takes indices only; Actuation(scene) or Simulation.actuation() takes names too"
+                ))
+            }),
+        }
+    }
+
+    fn body(&self, key: &Bound<'_, PyAny>) -> PyResult<usize> {
+        self.index(Part::Body, key)
+    }
+
+    fn reaction(&self, key: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+        key.map(|k| self.body(k)).transpose()
+    }
 }
 
 #[pymethods]
 impl PyActuation {
+    /// An empty actuation; with `scene` (a `Scene`), its commands take the scene's names
+    /// of bodies, joints and shapes as well as indices.
     #[new]
-    fn new() -> Self {
-        Self::default()
+    #[pyo3(signature = (scene = None))]
+    fn new(scene: Option<PyRef<'_, PyScene>>) -> Self {
+        match scene {
+            Some(scene) => Self::of(scene.scene.model.clone()),
+            None => Self::default(),
+        }
     }
 
     /// Removes every command.
@@ -96,61 +138,91 @@ impl PyActuation {
     /// A torque `torque` (N m) on `body`, and `-torque` on `reaction` (a motor between two
     /// bodies) if given.
     #[pyo3(signature = (body, torque, reaction = None))]
-    fn torque(&mut self, body: usize, torque: f64, reaction: Option<usize>) {
-        self.actuation.torques.push(TorqueCommand {
-            body,
-            reaction,
+    fn torque(
+        &mut self,
+        body: &Bound<'_, PyAny>,
+        torque: f64,
+        reaction: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let command = TorqueCommand {
+            body: self.body(body)?,
+            reaction: self.reaction(reaction)?,
             torque,
-        });
+        };
+        self.actuation.torques.push(command);
+        Ok(())
     }
 
-    /// A generalised force on the joint of `body` held over the step: a torque (N m) on a
-    /// revolute joint, a force (N) along a prismatic one (docs/physics.md §7).
-    fn joint_force(&mut self, body: usize, force: f64) {
+    /// A generalised force on the joint of `body` (the body, or the joint by its name)
+    /// held over the step: a torque (N m) on a revolute joint, a force (N) along a
+    /// prismatic one (docs/physics.md §7).
+    fn joint_force(&mut self, body: &Bound<'_, PyAny>, force: f64) -> PyResult<()> {
+        let body = self.index(Part::Joint, body)?;
         self.actuation
             .joint_forces
             .push(JointForceCommand { body, force });
+        Ok(())
     }
 
     /// A translational impulse `(ζx, ζy)` (N s, world frame) at the point of `body` at
     /// world offset `offset` (m) from its centre of mass, applied inside the step.
     #[pyo3(signature = (body, impulse, offset = (0.0, 0.0)))]
-    fn point_impulse(&mut self, body: usize, impulse: (f64, f64), offset: (f64, f64)) {
+    fn point_impulse(
+        &mut self,
+        body: &Bound<'_, PyAny>,
+        impulse: (f64, f64),
+        offset: (f64, f64),
+    ) -> PyResult<()> {
+        let body = self.body(body)?;
         self.actuation.impulses.push(ImpulseCommand::Point {
             body,
             offset: Vec2::new(offset.0, offset.1),
             impulse: Vec2::new(impulse.0, impulse.1),
         });
+        Ok(())
     }
 
     /// A rotational impulse `impulse` (N m s) on `body`, and its opposite on `reaction`.
     #[pyo3(signature = (body, impulse, reaction = None))]
-    fn rotational_impulse(&mut self, body: usize, impulse: f64, reaction: Option<usize>) {
-        self.actuation.impulses.push(ImpulseCommand::Rotational {
-            body,
-            reaction,
+    fn rotational_impulse(
+        &mut self,
+        body: &Bound<'_, PyAny>,
+        impulse: f64,
+        reaction: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let command = ImpulseCommand::Rotational {
+            body: self.body(body)?,
+            reaction: self.reaction(reaction)?,
             impulse,
-        });
+        };
+        self.actuation.impulses.push(command);
+        Ok(())
     }
 
     /// Locks the rotation of `body` to that of `other` in this step (an engaged brake:
     /// `θ̇_body = θ̇_other` at the end of the step), without a brake event.
-    fn lock(&mut self, body: usize, other: usize) {
-        self.actuation.locks.push((body, other));
+    fn lock(&mut self, body: &Bound<'_, PyAny>, other: &Bound<'_, PyAny>) -> PyResult<()> {
+        let pair = (self.body(body)?, self.body(other)?);
+        self.actuation.locks.push(pair);
+        Ok(())
     }
 
     /// A brake: the lock of `lock(body, other)` and a brake event (counted in the run
     /// summary with the angular impulse it transferred).
-    fn brake(&mut self, body: usize, other: usize) {
+    fn brake(&mut self, body: &Bound<'_, PyAny>, other: &Bound<'_, PyAny>) -> PyResult<()> {
+        let (body, other) = (self.body(body)?, self.body(other)?);
         self.actuation.locks.push((body, other));
         self.events.push(ControlEvent::Brake { body, other });
+        Ok(())
     }
 
     /// Switches contact shape `shape` on or off (a cane extended or retracted) before the
     /// step.
-    fn switch_shape(&mut self, shape: usize, active: bool) {
+    fn switch_shape(&mut self, shape: &Bound<'_, PyAny>, active: bool) -> PyResult<()> {
+        let shape = self.index(Part::Shape, shape)?;
         self.events
             .push(ControlEvent::ShapeSwitch { shape, active });
+        Ok(())
     }
 
     fn __repr__(&self) -> String {
@@ -189,11 +261,33 @@ pub struct PySimulation {
     sim: Mutex<Simulation>,
     scene: Arc<Scene>,
     py_scene: Py<PyScene>,
+    /// The recording under way (`record`), shown every step (behind a mutex, as `sim`,
+    /// for the class to be shareable between threads).
+    recording: Mutex<Option<Watch>>,
+}
+
+/// The error of a call that would restart a simulation being recorded.
+fn recording_under_way(what: &str) -> PyErr {
+    PyRuntimeError::new_err(format!(
+        "{what}: the simulation is being recorded; close the recording first"
+    ))
 }
 
 impl PySimulation {
+    /// Per shape: its contact flag and its two forces ([`Simulation::shape_contacts_to`]).
+    fn shape_contacts(&self) -> (Vec<bool>, Vec<f64>) {
+        let shapes = self.scene.model.shapes().len();
+        let (mut loaded, mut forces) = (vec![false; shapes], vec![0.0; 2 * shapes]);
+        self.shared().shape_contacts_to(&mut loaded, &mut forces);
+        (loaded, forces)
+    }
+
     fn sim(&mut self) -> &mut Simulation {
         self.sim.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn recording(&mut self) -> &mut Option<Watch> {
+        self.recording.get_mut().unwrap_or_else(|e| e.into_inner())
     }
 
     fn shared(&self) -> MutexGuard<'_, Simulation> {
@@ -210,11 +304,17 @@ struct Frames {
 }
 
 /// A recorder that keeps the frames in memory.
-struct FrameCollector(Rc<RefCell<Frames>>);
+struct FrameCollector(Arc<Mutex<Frames>>);
+
+impl FrameCollector {
+    fn frames(&self) -> MutexGuard<'_, Frames> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
 
 impl Recorder for FrameCollector {
     fn frame(&mut self, frame: &Frame<'_>) -> Result<(), RecordError> {
-        let mut frames = self.0.borrow_mut();
+        let mut frames = self.frames();
         frames.values.push(frame.t);
         frames.values.push(frame.step as f64);
         frames.values.extend(frame_values(frame));
@@ -223,7 +323,7 @@ impl Recorder for FrameCollector {
     }
 
     fn event(&mut self, event: &Event) -> Result<(), RecordError> {
-        self.0.borrow_mut().events.push(event.clone());
+        self.frames().events.push(event.clone());
         Ok(())
     }
 
@@ -291,6 +391,7 @@ impl PySimulation {
             sim: Mutex::new(sim),
             scene: shared,
             py_scene: scene.unbind(),
+            recording: Mutex::new(None),
         })
     }
 
@@ -317,19 +418,32 @@ impl PySimulation {
         const WHAT: &str = "Simulation.step";
         let scene = self.scene.clone();
         check_step_count(&scene, n)?;
-        let sim = self.sim();
+        let sim = self.sim.get_mut().unwrap_or_else(|e| e.into_inner());
+        let recording = self.recording.get_mut().unwrap_or_else(|e| e.into_inner());
+        let mut recording = recording.as_mut();
         guard(py, WHAT, || {
             // One step returns to Python at once: no need to poll for signals.
             let (mut poll, mut single) = (SignalPoll::new(), ());
+            let watch = Steps(recording.as_deref_mut());
             let result = match actuation {
                 Some(a) => {
-                    let observer: &mut dyn Observer = if n > 1 { &mut poll } else { &mut single };
-                    (0..n).try_for_each(|_| sim.step_with(&a.actuation, &a.events, observer))
+                    let first: &mut dyn Observer = if n > 1 { &mut poll } else { &mut single };
+                    let mut observer = (first, watch);
+                    (0..n).try_for_each(|_| sim.step_with(&a.actuation, &a.events, &mut observer))
                 }
-                None if n == 1 => sim.step(&mut single),
-                None => py.detach(|| (0..n).try_for_each(|_| sim.step(&mut poll))),
+                None if n == 1 => sim.step(&mut (single, watch)),
+                None => py.detach(|| {
+                    let mut observer = (&mut poll, watch);
+                    (0..n).try_for_each(|_| sim.step(&mut observer))
+                }),
             };
-            result.map_err(|e| run_error(py, WHAT, e, Some(&mut poll)))
+            result.map_err(|e| {
+                // A command refused before the step stops nothing.
+                if let (Some(w), false) = (recording, matches!(e, RunError::Actuation(_))) {
+                    w.stop(&e);
+                }
+                run_error(py, WHAT, e, Some(&mut poll))
+            })
         })
     }
 
@@ -365,19 +479,27 @@ impl PySimulation {
             )));
         }
         let rate = positive("record_rate", record_rate, scene.settings.record_rate)?;
-        let sim = self.sim();
+        let sim = self.sim.get_mut().unwrap_or_else(|e| e.into_inner());
+        let recording = self.recording.get_mut().unwrap_or_else(|e| e.into_inner());
+        let recording = recording.as_mut();
         guard(py, WHAT, || {
             let (report, kept, mut poll) = py.detach(|| {
-                let kept = Rc::new(RefCell::new(Frames::default()));
+                let kept = Arc::new(Mutex::new(Frames::default()));
                 let mut recorder = frames.then(|| {
                     let mut recorders = RecorderSet::default();
                     recorders.push(Box::new(FrameCollector(kept.clone())));
                     RecordingObserver::with_rate(recorders, &scene, rate)
                 });
                 let mut poll = SignalPoll::new();
-                let report = run_simulation(sim, duration, &mut (&mut recorder, &mut poll))
-                    .and_then(|r| recorder.map_or(Ok(()), |o| o.finish()).map(|()| r));
-                (report, kept.take(), poll)
+                let mut watch = Steps(recording);
+                let report =
+                    run_simulation(sim, duration, &mut (&mut recorder, (&mut poll, &mut watch)))
+                        .and_then(|r| recorder.map_or(Ok(()), |o| o.finish()).map(|()| r));
+                if let (Err(e), Some(w)) = (&report, watch.0) {
+                    w.stop(e);
+                }
+                let kept = std::mem::take(&mut *kept.lock().unwrap_or_else(|e| e.into_inner()));
+                (report, kept, poll)
             });
             match report {
                 Ok(report) => {
@@ -393,6 +515,60 @@ impl PySimulation {
                 }
             }
         })
+    }
+
+    /// Starts recording at the current state (its first frame) to `outputs`: paths ending
+    /// in `.mcap`, `.rrd` or `.csv` (the recorders of `hopsim run`, written atomically),
+    /// or `"live"` (a Rerun viewer, paced by `speed`: a factor or `"max"`). Frames at
+    /// `record_rate` Hz (default: the scene's) and at every step with an event, whoever
+    /// steps (`step`, with or without an `Actuation`, and `run`). `hopsim.Simulation.record`
+    /// wraps it as a `Recorder`.
+    #[pyo3(signature = (outputs, record_rate = None, speed = "1".to_string()))]
+    fn _record_open(
+        &mut self,
+        py: Python<'_>,
+        outputs: Vec<String>,
+        record_rate: Option<f64>,
+        speed: String,
+    ) -> PyResult<()> {
+        if self.recording().is_some() {
+            return Err(PyRuntimeError::new_err(
+                "record: the simulation is already being recorded; close that recording first",
+            ));
+        }
+        let scene = self.scene.clone();
+        let sim = self.sim.get_mut().unwrap_or_else(|e| e.into_inner());
+        let watch = guard(py, "Simulation.record", || {
+            let mut watch = Watch::new(sim, &scene, &outputs, record_rate, &speed)?;
+            sim.start(&mut watch)
+                .map_err(|e| error(py, Class::Simulation, e.to_string()))?;
+            Ok(watch)
+        })?;
+        *self.recording() = Some(watch);
+        Ok(())
+    }
+
+    /// Completes the recording and returns the run summary of the span recorded (JSON)
+    /// and the figures a sweep reports of it (`[(column, value)]`);
+    /// a recorded run that stopped keeps its recordings under their partial names and
+    /// raises `SimulationError` naming them.
+    fn _record_close(&mut self, py: Python<'_>) -> PyResult<Closed> {
+        let watch = self
+            .recording()
+            .take()
+            .ok_or_else(|| PyRuntimeError::new_err("the simulation is not being recorded"))?;
+        let sim = self.sim.get_mut().unwrap_or_else(|e| e.into_inner());
+        guard(py, "Recorder.close", || watch.close(py, sim))
+    }
+
+    /// Ends the recording without completing it: what was recorded is kept under the
+    /// outputs' partial names (`run.partial.mcap`) with `reason`; returns those paths.
+    fn _record_abort(&mut self, py: Python<'_>, reason: &str) -> PyResult<Vec<PathBuf>> {
+        let watch = self
+            .recording()
+            .take()
+            .ok_or_else(|| PyRuntimeError::new_err("the simulation is not being recorded"))?;
+        guard(py, "Recorder.abort", || watch.abort(reason))
     }
 
     /// Time, s.
@@ -436,6 +612,9 @@ impl PySimulation {
         t: Option<f64>,
         restore: bool,
     ) -> PyResult<()> {
+        if self.recording().is_some() {
+            return Err(recording_under_way("Simulation.set_state"));
+        }
         let (q, u) = (q.as_array(), u.as_array());
         let state = State {
             t: t.unwrap_or_else(|| self.shared().state().t),
@@ -484,31 +663,31 @@ impl PySimulation {
 
     /// Sets one actuator's control, by name or index (`actuator_names`).
     fn set_control(&mut self, actuator: &Bound<'_, PyAny>, value: f64) -> PyResult<()> {
-        let index = match actuator.extract::<usize>() {
-            Ok(i) => i,
-            Err(_) => {
-                let name: String = actuator.extract().map_err(|_| {
-                    pyo3::exceptions::PyTypeError::new_err(
-                        "set_control: expected an actuator's name (str) or index (int)",
-                    )
-                })?;
-                self.scene.model.actuator_index(&name).ok_or_else(|| {
-                    let names: Vec<&str> = self
-                        .scene
-                        .model
-                        .actuators()
-                        .iter()
-                        .map(|a| a.name.as_str())
-                        .collect();
-                    pyo3::exceptions::PyKeyError::new_err(format!(
-                        "no actuator named '{name}'; the actuators are {names:?}"
-                    ))
-                })?
-            }
-        };
+        let index = names::index(&self.scene.model, Part::Actuator, actuator)?;
         self.sim()
             .set_control(index, value)
             .map_err(|e| actuation_error(&e))
+    }
+
+    /// An empty `Actuation` that takes this scene's names of bodies, joints and shapes.
+    fn actuation(&self) -> PyActuation {
+        PyActuation::of(self.scene.model.clone())
+    }
+
+    /// Per shape (`shape_names`): whether it carried a normal percussion in the last step,
+    /// (n_shapes,) bool (a new array).
+    fn shape_in_contact<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        let (loaded, _) = self.shape_contacts();
+        PyArray1::from_vec(py, loaded)
+    }
+
+    /// Per shape (`shape_names`): its contacts' normal and tangential forces over the last
+    /// step, `Λ_N / Δt` and `Λ_T / Δt` (N; each contact along its own normal, into the
+    /// shape's body, and tangent `t = (n_y, -n_x)`; a contact between two bodies counts
+    /// for both shapes), (n_shapes, 2) (a new array).
+    fn shape_contact_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (loaded, forces) = self.shape_contacts();
+        PyArray1::from_vec(py, forces).reshape([loaded.len(), 2])
     }
 
     /// The generalised forces of the actuators at the current state under the current

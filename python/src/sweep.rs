@@ -134,3 +134,10 @@ pub fn sweep_csv(
         })
     })
 }
+
+/// The figures a sweep reports of each run, in the order of its table's columns after
+/// `error`.
+#[pyfunction]
+pub fn sweep_figure_names() -> Vec<&'static str> {
+    hopsim_studies::sweep::figure_names()
+}

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import hopsim
+from test_simulation import MomentumImpulse
 
 GRID = {"controller.torque": [0.12, 0.16, 0.2], "controller.impulse_limit": [0.05, 0.059]}
 BASELINES = {"slow": {"controller.torque": 0.1}}
@@ -106,3 +107,70 @@ def test_a_failed_run_is_a_row_with_its_error(robbit):
     assert table["status"][0] == "ok"
     assert table["status"][1] == "error" and table["error"][1]
     assert np.isnan(table["mean_speed_mps"][1])
+
+
+class PythonMomentumImpulse:
+    """A factory of Robbit's controller written in Python (test_simulation.py) whose
+    torque is a parameter: `PythonMomentumImpulse(torque)` drives a simulation as the
+    built-in controller with `controller.torque = torque` does, bit for bit."""
+
+    def __init__(self, torque):
+        self.torque = torque
+        self.controller = None
+
+    def __call__(self, sim):
+        if self.controller is None:
+            self.controller = MomentumImpulse(sim.scene)
+            self.controller.torque = self.torque
+        return self.controller(sim)
+
+
+CONTROLLED_GRID = {"torque": [0.16, 0.2], "environment.friction": [0.8, 1.0]}
+CONTROLLED_BASELINES = {"slow": {"torque": 0.1}}
+
+
+@pytest.fixture(scope="module")
+def controlled(robbit):
+    return hopsim.sweep(
+        robbit, CONTROLLED_GRID, baselines=CONTROLLED_BASELINES, controller=PythonMomentumImpulse
+    )
+
+
+def test_a_python_controller_sweep_equals_the_built_in_controller_sweep(robbit, controlled):
+    """The factory's parameter `torque` is a grid axis beside the scene key
+    `environment.friction`: every row equals the row of the sweep of the built-in
+    controller over `controller.torque`, figure for figure (but the wall time)."""
+    builtin = hopsim.sweep(
+        robbit,
+        {"controller.torque": CONTROLLED_GRID["torque"], "environment.friction": [0.8, 1.0]},
+        baselines={"slow": {"controller.torque": 0.1}},
+    )
+    assert controlled.columns[:5] == ["label", "torque", "environment.friction", "status", "error"]
+    assert controlled.columns[1:] != builtin.columns[1:]
+    assert controlled.columns[3:] == builtin.columns[3:]
+    assert controlled["status"] == ["ok"] * 5
+    # The cells as text: the numbers are written as `hopsim sweep` writes them.
+    assert comparable(controlled) == comparable(builtin)
+    assert len(set(controlled["mean_speed_mps"])) > 1
+
+
+def test_a_python_controller_sweep_on_dask_gives_the_same_table(robbit, controlled):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster, distributed.Client(cluster) as client:
+        on_dask = hopsim.sweep(
+            robbit,
+            CONTROLLED_GRID,
+            baselines=CONTROLLED_BASELINES,
+            controller=PythonMomentumImpulse,
+            client=client,
+            chunk_size=2,
+        )
+    assert on_dask.columns == controlled.columns
+    assert comparable(on_dask) == comparable(controlled)
+
+
+def test_a_python_controller_sweep_checks_its_scenes(robbit):
+    with pytest.raises(hopsim.SceneError):
+        hopsim.sweep(robbit, {"torque": [0.1], "environment.frction": [1.0]}, controller=PythonMomentumImpulse)

@@ -112,8 +112,9 @@ impl std::fmt::Display for Stop {
 
 /// A sink for frames and events. `finish` makes the output complete (e.g. renames the
 /// temporary file into place); a recorder dropped without `finish` leaves no file that
-/// looks complete.
-pub trait Recorder {
+/// looks complete. Recorders are `Send`, so that a run stepped on another thread (a copy of
+/// a batch) can be recorded.
+pub trait Recorder: Send {
     /// Records one frame (at the recording rate and at every event step).
     fn frame(&mut self, frame: &Frame<'_>) -> Result<(), RecordError>;
     /// Records a discrete event exactly at its time.

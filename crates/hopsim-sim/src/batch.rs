@@ -10,7 +10,7 @@
 //! bodies (docs/physics.md §4.4) and contact shapes (a cane) engaged per copy from masks, as
 //! a caller's [`Simulation::step_with`].
 
-use crate::{RunError, Setup, Simulation, StateProblem};
+use crate::{Observer, RunError, Setup, Simulation, StateProblem};
 use hopsim_control::ControlEvent;
 use hopsim_step::{Actuation, ActuationError, State};
 use std::sync::Arc;
@@ -33,6 +33,14 @@ pub enum BatchError {
         expected_coordinates: usize,
         expected_actuators: usize,
     },
+    #[error(
+        "copy {copy} has {shapes} shapes, copy 0 {expected}: every copy must have the same shapes"
+    )]
+    Shapes {
+        copy: usize,
+        shapes: usize,
+        expected: usize,
+    },
     #[error("cannot start {threads} threads: {message}")]
     Threads { threads: usize, message: String },
     #[error("copy {copy} is out of range: the batch has {copies} copies")]
@@ -41,6 +49,10 @@ pub enum BatchError {
     State { copy: usize, problem: StateProblem },
     #[error("brakes and switches: {0}")]
     Brake(ActuationError),
+    #[error("copy {copy} is watched by an observer (a recording): detach it first")]
+    Observed { copy: usize },
+    #[error("copy {copy}: {error}")]
+    Run { copy: usize, error: RunError },
 }
 
 /// The brakes and switchable shapes of a batch ([`Batch::set_commands`]).
@@ -50,11 +62,15 @@ struct Commands<'a> {
     switches: &'a [usize],
 }
 
-/// One copy: its simulation, the error that stopped it, its engaged brakes and the shape
-/// switches of its next step.
+/// What watches a copy of a batch, on the thread that steps it.
+pub type BatchObserver = Box<dyn Observer + Send>;
+
+/// One copy: its simulation, the error that stopped it, what watches it, its engaged
+/// brakes and the shape switches of its next step.
 struct Lane {
     sim: Simulation,
     error: Option<RunError>,
+    observer: Option<BatchObserver>,
     /// The locks of the brakes engaged in this copy's steps (buffers reused: no
     /// allocation once grown to the batch's brakes and switches).
     locks: Actuation,
@@ -69,6 +85,7 @@ impl Lane {
         Self {
             sim,
             error: None,
+            observer: None,
             locks: Actuation::default(),
             switching: Vec::new(),
         }
@@ -108,14 +125,19 @@ impl Lane {
             }
         }
         if self.error.is_none() {
+            let mut unwatched = ();
             for k in 0..steps {
                 let events = match k {
                     0 => self.switching.as_slice(),
                     _ => &[],
                 };
+                let observer: &mut dyn Observer = match &mut self.observer {
+                    Some(observer) => observer.as_mut(),
+                    None => &mut unwatched,
+                };
                 let stepped = match self.locks.locks.is_empty() && events.is_empty() {
-                    true => self.sim.step(&mut ()),
-                    false => self.sim.step_with(&self.locks, events, &mut ()),
+                    true => self.sim.step(observer),
+                    false => self.sim.step_with(&self.locks, events, observer),
                 };
                 if let Err(e) = stepped {
                     self.error = Some(e);
@@ -138,15 +160,19 @@ struct Part<'a> {
     commands: Commands<'a>,
     engaged: &'a [bool],
     active: &'a [bool],
+    shape_loaded: &'a mut [bool],
+    shape_forces: &'a mut [f64],
     nq: usize,
     nu: usize,
+    /// Shapes per copy.
+    ns: usize,
 }
 
 impl Part<'_> {
     /// Copies `..mid` and `mid..`.
     fn split(self, mid: usize) -> (Self, Self) {
-        let (nq, nu) = (self.nq, self.nu);
-        let (nb, ns) = (self.commands.brakes.len(), self.commands.switches.len());
+        let (nq, nu, ns) = (self.nq, self.nu, self.ns);
+        let (nb, nw) = (self.commands.brakes.len(), self.commands.switches.len());
         let (lanes, lanes_b) = self.lanes.split_at_mut(mid);
         let (t, t_b) = self.t.split_at_mut(mid);
         let (q, q_b) = self.q.split_at_mut(mid * nq);
@@ -155,8 +181,10 @@ impl Part<'_> {
         let (in_contact, in_contact_b) = self.in_contact.split_at_mut(mid);
         let (done, done_b) = self.done.split_at_mut(mid);
         let (engaged, engaged_b) = self.engaged.split_at(mid * nb);
-        let (active, active_b) = self.active.split_at(mid * ns);
+        let (active, active_b) = self.active.split_at(mid * nw);
         let commands = self.commands;
+        let (shape_loaded, shape_loaded_b) = self.shape_loaded.split_at_mut(mid * ns);
+        let (shape_forces, shape_forces_b) = self.shape_forces.split_at_mut(mid * ns * 2);
         let a = Part {
             lanes,
             t,
@@ -168,8 +196,11 @@ impl Part<'_> {
             commands,
             engaged,
             active,
+            shape_loaded,
+            shape_forces,
             nq,
             nu,
+            ns,
         };
         let b = Part {
             lanes: lanes_b,
@@ -182,8 +213,11 @@ impl Part<'_> {
             commands,
             engaged: engaged_b,
             active: active_b,
+            shape_loaded: shape_loaded_b,
+            shape_forces: shape_forces_b,
             nq,
             nu,
+            ns,
         };
         (a, b)
     }
@@ -199,24 +233,24 @@ impl Part<'_> {
             return;
         }
         let nu = self.nu;
-        let (nb, ns) = (self.commands.brakes.len(), self.commands.switches.len());
+        let (nb, nw) = (self.commands.brakes.len(), self.commands.switches.len());
         for i in 0..n {
             self.lanes[i].advance(
                 steps,
                 &self.controls[i * nu..(i + 1) * nu],
                 self.commands,
                 &self.engaged[i * nb..(i + 1) * nb],
-                &self.active[i * ns..(i + 1) * ns],
+                &self.active[i * nw..(i + 1) * nw],
             );
             self.gather(i);
         }
     }
 
-    /// Copy `i`'s state, controls (those that acted), contact flag and done flag into its
-    /// rows.
+    /// Copy `i`'s state, controls (those that acted), contact flags and forces and done
+    /// flag into its rows.
     fn gather(&mut self, i: usize) {
         let lane = &self.lanes[i];
-        let (nq, nu) = (self.nq, self.nu);
+        let (nq, nu, ns) = (self.nq, self.nu, self.ns);
         let state = lane.sim.state();
         self.t[i] = state.t;
         self.q[i * nq..(i + 1) * nq].copy_from_slice(state.q.as_slice());
@@ -224,6 +258,10 @@ impl Part<'_> {
         self.controls[i * nu..(i + 1) * nu].copy_from_slice(lane.sim.controls());
         self.in_contact[i] = lane.sim.in_contact();
         self.done[i] = lane.error.is_some();
+        lane.sim.shape_contacts_to(
+            &mut self.shape_loaded[i * ns..(i + 1) * ns],
+            &mut self.shape_forces[i * ns * 2..(i + 1) * ns * 2],
+        );
     }
 }
 
@@ -249,6 +287,9 @@ pub struct Batch {
     /// The switchable shapes, and which are to be active in each copy (`n × switches`).
     switches: Vec<usize>,
     active: Vec<bool>,
+    shape_loaded: Vec<bool>,
+    shape_forces: Vec<f64>,
+    ns: usize,
     /// `None` for one thread (the copies are stepped on the caller's thread).
     pool: Option<rayon::ThreadPool>,
     threads: usize,
@@ -297,6 +338,14 @@ impl Batch {
             ),
         };
         let n = setups.len();
+        let ns = first.model.shapes().len();
+        if let Some(copy) = setups.iter().position(|s| s.model.shapes().len() != ns) {
+            return Err(BatchError::Shapes {
+                copy,
+                shapes: setups[copy].model.shapes().len(),
+                expected: ns,
+            });
+        }
         let lanes = setups.iter().map(|s| Lane::new(s.clone())).collect();
         let mut batch = Self {
             setups,
@@ -313,6 +362,9 @@ impl Batch {
             engaged: Vec::new(),
             switches: Vec::new(),
             active: Vec::new(),
+            shape_loaded: vec![false; n * ns],
+            shape_forces: vec![0.0; n * ns * 2],
+            ns,
             pool,
             threads,
         };
@@ -378,6 +430,23 @@ impl Batch {
     /// ([`Simulation::in_contact`]).
     pub fn in_contact(&self) -> &[bool] {
         &self.in_contact
+    }
+
+    /// Shapes per copy.
+    pub fn shapes(&self) -> usize {
+        self.ns
+    }
+
+    /// Per copy and shape, `n × shapes` row-major: whether the shape carried a normal
+    /// percussion in the copy's last step ([`Simulation::shape_contacts_to`]).
+    pub fn shape_in_contact(&self) -> &[bool] {
+        &self.shape_loaded
+    }
+
+    /// Per copy and shape, `n × shapes × 2` row-major: the shape's normal and tangential
+    /// contact forces over the copy's last step, N ([`Simulation::shape_contacts_to`]).
+    pub fn shape_contact_forces(&self) -> &[f64] {
+        &self.shape_forces
     }
 
     /// Whether each copy is done (a step of it failed: see [`Batch::error`]); a done copy
@@ -477,21 +546,50 @@ impl Batch {
         self.pool = pool;
     }
 
+    /// Shows copy `i`'s current state to `observer` ([`Observer::on_start`]) and then
+    /// every step of it, with the energy account on, started at the current state (the
+    /// copies nobody watches keep none; the states do not depend on it), until
+    /// [`Batch::detach`]. A copy being watched is
+    /// neither reset nor restarted at another state ([`BatchError::Observed`]).
+    pub fn observe(&mut self, i: usize, mut observer: BatchObserver) -> Result<(), BatchError> {
+        self.check_unobserved(i)?;
+        let lane = &mut self.lanes[i];
+        lane.sim.restart_ledger();
+        let started = lane.sim.start(observer.as_mut());
+        if let Err(error) = started {
+            lane.sim.set_ledger(false);
+            return Err(BatchError::Run { copy: i, error });
+        }
+        lane.observer = Some(observer);
+        Ok(())
+    }
+
+    /// The observer of copy `i`, no longer shown its steps.
+    pub fn detach(&mut self, i: usize) -> Option<BatchObserver> {
+        let lane = self.lanes.get_mut(i)?;
+        lane.sim.set_ledger(false);
+        lane.observer.take()
+    }
+
     /// Copy `i` anew at its setup's initial state (its controller and shapes too), not
     /// done.
     pub fn reset(&mut self, i: usize) -> Result<(), BatchError> {
-        self.check(i)?;
+        self.check_unobserved(i)?;
         self.lanes[i] = Lane::new(self.setups[i].clone());
         self.gather(i);
         Ok(())
     }
 
     /// Every copy anew ([`Batch::reset`]).
-    pub fn reset_all(&mut self) {
+    pub fn reset_all(&mut self) -> Result<(), BatchError> {
+        if let Some(copy) = self.lanes.iter().position(|l| l.observer.is_some()) {
+            return Err(BatchError::Observed { copy });
+        }
         for i in 0..self.len() {
             self.lanes[i] = Lane::new(self.setups[i].clone());
             self.gather(i);
         }
+        Ok(())
     }
 
     /// Restarts copy `i` at `state`, checked as [`Simulation::set_state`] does; a done
@@ -515,7 +613,7 @@ impl Batch {
         state: State,
         restart: fn(&mut Simulation, State) -> Result<(), StateProblem>,
     ) -> Result<(), BatchError> {
-        self.check(i)?;
+        self.check_unobserved(i)?;
         let problem = |problem| BatchError::State { copy: i, problem };
         if self.lanes[i].error.is_some() {
             let mut lane = Lane::new(self.setups[i].clone());
@@ -526,6 +624,15 @@ impl Batch {
         }
         self.gather(i);
         Ok(())
+    }
+
+    /// [`Batch::check`], and no observer on the copy.
+    fn check_unobserved(&self, copy: usize) -> Result<(), BatchError> {
+        self.check(copy)?;
+        match self.lanes[copy].observer {
+            Some(_) => Err(BatchError::Observed { copy }),
+            None => Ok(()),
+        }
     }
 
     fn check(&self, copy: usize) -> Result<(), BatchError> {
@@ -554,8 +661,11 @@ impl Batch {
             },
             engaged: &self.engaged,
             active: &self.active,
+            shape_loaded: &mut self.shape_loaded,
+            shape_forces: &mut self.shape_forces,
             nq: self.nq,
             nu: self.nu,
+            ns: self.ns,
         }
     }
 

@@ -4,7 +4,8 @@
 //!
 //! * [`Simulation`]: one step at a time (the scene's controller, or a caller's actuation
 //!   with [`Simulation::step_with`]); [`run`]: a whole run and its [`Summary`];
-//!   [`run_for`]: a span of a simulation under way.
+//!   [`run_for`]: a span of a simulation under way; [`OpenSummary`]: the summary of a
+//!   run stepped by its caller, whose end is known only when it stops.
 //! * [`Batch`]: many copies of a model stepped together on a fixed number of threads.
 //! * [`Observer`]: what watches a run ([`StepView`] after every step).
 //! * [`RecordingObserver`]: frames and events to the recorders of `hopsim-record`.
@@ -17,6 +18,7 @@ mod batch;
 mod error;
 mod flight;
 mod observer;
+mod open_summary;
 mod periodicity;
 mod recording;
 mod run;
@@ -29,6 +31,7 @@ pub use batch::{Batch, BatchError};
 pub use error::{panic_message, RunError};
 pub use flight::{FlightEvent, FlightTracker, HOP_CLEARANCE};
 pub use observer::{Observer, StepView, StopFlag};
+pub use open_summary::OpenSummary;
 pub use periodicity::{Periodicity, PeriodicityOptions, PoincareSection};
 pub use recording::{recording_info, RecordingObserver};
 pub use run::{run, run_for};

@@ -180,10 +180,11 @@ impl RecordingObserver {
         Ok(self.recorders.finish()?)
     }
 
-    /// Keeps what was recorded of a run that stopped early because of `reason`, under the
-    /// outputs' partial names, saying why and after which step (the last one shown to this
-    /// observer); returns the files kept.
-    pub fn finish_partial(self, reason: &RunError) -> Result<Vec<PathBuf>, RunError> {
+    /// Keeps what was recorded of a run that stopped early because of `reason` (a
+    /// [`RunError`], or a caller's own reason), under the outputs' partial names, saying
+    /// why and after which step (the last one shown to this observer); returns the files
+    /// kept.
+    pub fn finish_partial(self, reason: &dyn std::fmt::Display) -> Result<Vec<PathBuf>, RunError> {
         let (step, t) = self.last_step;
         let stop = Stop {
             reason: reason.to_string(),

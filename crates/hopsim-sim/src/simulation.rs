@@ -159,6 +159,13 @@ impl Simulation {
         self.stepper.set_ledger(on);
     }
 
+    /// Switches the energy account on, started anew at the current state
+    /// ([`hopsim_step::Stepper::restart_ledger`]): for a simulation run without it and
+    /// watched for energies from now on.
+    pub fn restart_ledger(&mut self) {
+        self.stepper.restart_ledger(&self.setup.model);
+    }
+
     /// The actuation of the last step (the controller's or the caller's).
     pub fn actuation(&self) -> &Actuation {
         &self.actuation
@@ -169,6 +176,35 @@ impl Simulation {
     /// first step, whether the start touches the world.
     pub fn in_contact(&self) -> bool {
         self.loaded
+    }
+
+    /// Per shape (in the model's order), from the last step's contacts: whether it carried
+    /// a normal percussion, into `loaded` (one flag per shape), and its contacts'
+    /// percussions per unit time `Λ_N / Δt` and `Λ_T / Δt` (the mean forces over the
+    /// step, N), into `forces` (two numbers per shape: normal, tangential). Each contact
+    /// counts along its own normal, which points into the shape's body, and its tangent
+    /// `t = (n_y, -n_x)` (docs/physics.md §4); a body–body contact counts for both its
+    /// shapes, each in its own frame, so with the same two numbers (§7.3). Allocates
+    /// nothing.
+    pub fn shape_contacts_to(&self, loaded: &mut [bool], forces: &mut [f64]) {
+        let model = &self.setup.model;
+        let record = self.stepper.record();
+        let per_second = 1.0 / self.setup.settings.dt;
+        loaded.fill(false);
+        forces.fill(0.0);
+        let mut add = |shape: usize, c: &hopsim_step::ContactRecord| {
+            loaded[shape] |= c.impulse_normal > 0.0;
+            forces[2 * shape] += c.impulse_normal * per_second;
+            forces[2 * shape + 1] += c.impulse_tangent * per_second;
+        };
+        for c in &record.contacts {
+            add(model.contacts()[c.contact].shape, c);
+        }
+        for c in &record.pair_contacts {
+            let pair = &model.pairs()[c.contact];
+            add(pair.probe, c);
+            add(pair.target, c);
+        }
     }
 
     /// Whether each shape is switched on.

@@ -167,6 +167,16 @@ impl SummaryCollector {
         }
     }
 
+    /// The speed window of a run whose end was not known at its start
+    /// ([`crate::OpenSummary`]): where it starts, the centre of mass's abscissa there and
+    /// the actuator impulses and brakes in it.
+    pub(crate) fn set_window(&mut self, start: f64, x: Option<f64>, impulse: f64, brakes: u64) {
+        self.window_start = start;
+        self.x_window = x;
+        self.window_impulse = impulse;
+        self.window_brakes = brakes;
+    }
+
     /// The summary, given the last step (`end`), the run's LCP statistics and its wall time.
     pub(crate) fn finish(self, end: &StepView<'_>, lcp: LcpStats, wall_time_s: f64) -> Summary {
         let warnings = self.warnings();

@@ -311,3 +311,73 @@ fn shape_switches_per_copy_equal_single_simulations_stepped_with_the_switch() {
     }
     assert!(switched >= n, "{switched}");
 }
+
+/// What an observer saw of each step: step, time, `q` and the kinetic energy, as bits.
+#[derive(Clone, Default)]
+struct Seen(Arc<std::sync::Mutex<Vec<Vec<u64>>>>);
+
+impl hopsim_sim::Observer for Seen {
+    fn on_step(&mut self, view: &hopsim_sim::StepView<'_>) -> Result<(), RunError> {
+        let mut row = vec![view.record.step, view.state.t.to_bits()];
+        row.extend(bits(view.state.q.as_slice()));
+        row.push(view.record.energy.kinetic.to_bits());
+        self.0.lock().unwrap().push(row);
+        Ok(())
+    }
+
+    fn on_start(&mut self, view: &hopsim_sim::StepView<'_>) -> Result<(), RunError> {
+        self.on_step(view)
+    }
+}
+
+/// An observer on copy 5 of a batch on two threads sees what it sees of a single
+/// simulation with the same start and controls: the same steps, states and energies (the
+/// copy's energy account is switched on for it); the copy cannot be reset or restarted
+/// while it is watched, and can once the observer is detached.
+#[test]
+fn an_observed_copy_shows_its_steps_as_a_single_simulation() {
+    let scene = robbit();
+    let (n, copy) = (8, 5);
+    let mut batch = Batch::new(&scene, n, 2).unwrap();
+    let mut single = Simulation::new(&scene);
+    batch.set_state(copy, start(&scene, copy)).unwrap();
+    single.set_state(start(&scene, copy)).unwrap();
+    let (on_batch, mut on_single) = (Seen::default(), Seen::default());
+    batch.observe(copy, Box::new(on_batch.clone())).unwrap();
+    single.start(&mut on_single).unwrap();
+    for b in 0..4 {
+        batch.controls_mut()[copy] = control(copy, b);
+        batch.step(250);
+        single.set_controls(&[control(copy, b)]).unwrap();
+        for _ in 0..250 {
+            single.step(&mut on_single).unwrap();
+        }
+    }
+    let seen = on_batch.0.lock().unwrap().clone();
+    assert_eq!(seen.len(), 1001);
+    assert_eq!(seen, *on_single.0.lock().unwrap());
+    assert!(seen
+        .iter()
+        .any(|row| f64::from_bits(*row.last().unwrap()) > 0.0));
+    assert!(matches!(
+        batch.reset(copy),
+        Err(BatchError::Observed { copy: 5 })
+    ));
+    assert!(matches!(
+        batch.reset_all(),
+        Err(BatchError::Observed { copy: 5 })
+    ));
+    let again = start(&scene, copy);
+    assert!(matches!(
+        batch.set_state(copy, again),
+        Err(BatchError::Observed { .. })
+    ));
+    assert!(batch.detach(copy).is_some());
+    batch.step(1);
+    assert_eq!(
+        on_batch.0.lock().unwrap().len(),
+        1001,
+        "no steps after detach"
+    );
+    batch.reset(copy).unwrap();
+}

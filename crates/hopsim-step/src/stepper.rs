@@ -365,6 +365,17 @@ impl Stepper {
         self.ledger = on;
     }
 
+    /// Switches the energy account on and starts it anew at the current state (the
+    /// energies of the current kinematics, no works yet): for a run that kept none
+    /// ([`Stepper::set_ledger`]) and is watched for energies from now on. The rest of the
+    /// record, the statistics and the warm start are kept.
+    pub fn restart_ledger(&mut self, model: &Model) {
+        self.ledger = true;
+        self.record.energy = EnergyLedger::default();
+        self.fill_energies(model);
+        self.record.energy.initial = self.record.energy.total();
+    }
+
     /// Resets the record and energy account to `state` at the start of a run.
     pub fn start(&mut self, model: &Model, state: &State) -> &StepRecord {
         self.kinematics.update(model, &state.q, &state.u);

@@ -8,8 +8,8 @@ use hopsim_control::ControllerConfig;
 use hopsim_model::Shape;
 use hopsim_sim::Setup;
 use hopsim_sim::{
-    per_forward_metre, Observer, Periodicity, PeriodicityOptions, PoincareSection, RunError,
-    Simulation, Summary,
+    per_forward_metre, Observer, OpenSummary, Periodicity, PeriodicityOptions, PoincareSection,
+    RunError, Simulation, StepView, Summary,
 };
 use hopsim_theory::cube::Cube;
 use serde::Serialize;
@@ -77,6 +77,49 @@ pub fn run_simulation(
         gait: section.map(|s| s.detect(&PeriodicityOptions::default())),
         summary,
     })
+}
+
+/// The run summary of a simulation stepped by its caller (a controller written in Python),
+/// whose end is known only when it stops: shown the start ([`Simulation::start`]) and every
+/// step, it gives at [`RunWatch::finish`] what [`run_simulation`] gives for a span of that
+/// length (the speed window at its end, [`OpenSummary`]).
+pub struct RunWatch {
+    summary: OpenSummary,
+    section: Option<PoincareSection>,
+}
+
+impl RunWatch {
+    /// Watches `sim` from its current state.
+    pub fn new(sim: &Simulation) -> Self {
+        Self {
+            summary: OpenSummary::new(sim),
+            section: gait_section(sim.setup(), sim.state().t),
+        }
+    }
+
+    /// The summary of the steps seen, with the scene's sections, at `sim`'s last step.
+    pub fn finish(self, sim: &Simulation) -> Result<RunReport, RunError> {
+        let summary = self.summary.finish(sim)?;
+        Ok(RunReport {
+            robbit: RobbitSummary::of(sim.setup(), &summary),
+            gait: self
+                .section
+                .map(|s| s.detect(&PeriodicityOptions::default())),
+            summary,
+        })
+    }
+}
+
+impl Observer for RunWatch {
+    fn on_step(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.summary.on_step(view)?;
+        self.section.on_step(view)
+    }
+
+    fn on_start(&mut self, view: &StepView<'_>) -> Result<(), RunError> {
+        self.summary.on_start(view)?;
+        self.section.on_start(view)
+    }
 }
 
 /// The section at the start of every motor period from `t0`, for pulse-driven scenes.

@@ -139,6 +139,21 @@ const METRICS: &[Metric] = &[
     }),
 ];
 
+/// The figures a sweep reports of `report`, with their CSV column names, in column order
+/// (the columns of [`Sweep::table`] after `error`): for a front end that runs the sweep's
+/// runs itself (a controller written in Python).
+pub fn figures(report: &RunReport) -> Vec<(&'static str, f64)> {
+    METRICS
+        .iter()
+        .map(|m| (m.name, (m.value)(report)))
+        .collect()
+}
+
+/// The names of the figures a sweep reports, in column order ([`figures`]).
+pub fn figure_names() -> Vec<&'static str> {
+    METRICS.iter().map(|m| m.name).collect()
+}
+
 /// Lengths and speeds below this fraction of the scene's size (per second) are round-off,
 /// drawn as zero: a robot hopping in place travels 1e-13 m, not a distance.
 pub const ROUND_OFF: f64 = 1e-9;

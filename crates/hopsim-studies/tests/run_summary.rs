@@ -2,7 +2,8 @@
 //! and cube baselines, docs/physics.md §5.3; the gait's period, §5.4) and the JSON keys.
 
 use hopsim_scene::{Override, Scene};
-use hopsim_studies::run_summary::{run_scene, RunReport};
+use hopsim_sim::Simulation;
+use hopsim_studies::run_summary::{run_scene, run_simulation, RunReport, RunWatch};
 use std::path::Path;
 
 /// A bundled scene with `--set`-style overrides (`"key=value"`).
@@ -116,4 +117,53 @@ fn the_json_keeps_its_keys() {
     assert!(json.get("gait").is_none() && json.get("window").is_none());
     let keys = json.as_object().unwrap().len();
     assert_eq!(keys, 18, "{json}");
+}
+
+/// The summary's JSON without the wall-clock figures.
+fn figures(report: &RunReport) -> serde_json::Value {
+    let mut json = hopsim_io::to_json_value(report).unwrap();
+    let object = json.as_object_mut().unwrap();
+    object.remove("wall_time_s").unwrap();
+    object.remove("steps_per_s").unwrap();
+    json
+}
+
+/// A run stepped by its caller and watched by `RunWatch`, whose speed window is placed at
+/// the end once the run stops, has the summary of the same span run by `run_simulation`,
+/// whose window is placed before it starts: Robbit (brakes in the window, its figures),
+/// CaneBot (the gait's section), a span shorter than the window and a span from a state
+/// reached mid-run.
+#[test]
+fn a_run_stepped_by_its_caller_has_the_summary_of_the_same_span() {
+    let cases = [
+        ("robbit.toml", 0.0, None),
+        ("robbit.toml", 1.3, Some(2.7)),
+        ("canebot.toml", 0.0, None),
+        ("robbit.toml", 0.0, Some(0.05)),
+    ];
+    for (name, before, duration) in cases {
+        let scene = scene(name, &[]);
+        let duration = duration.unwrap_or(scene.settings.duration);
+        let mut planned = Simulation::new(&scene);
+        let mut stepped = Simulation::new(&scene);
+        let steps_before = (before / scene.settings.dt).round() as u64;
+        for _ in 0..steps_before {
+            planned.step(&mut ()).unwrap();
+            stepped.step(&mut ()).unwrap();
+        }
+        let expected = run_simulation(&mut planned, duration, &mut ()).unwrap();
+        let mut watch = RunWatch::new(&stepped);
+        stepped.start(&mut watch).unwrap();
+        for _ in 0..(duration / scene.settings.dt).round() as u64 {
+            stepped.step(&mut watch).unwrap();
+        }
+        let report = watch.finish(&stepped).unwrap();
+        assert!(report.summary.steps > 0);
+        assert_eq!(
+            figures(&report),
+            figures(&expected),
+            "{name} from {before} s"
+        );
+        assert_eq!(report.summary.window.brakes, expected.summary.window.brakes);
+    }
 }
