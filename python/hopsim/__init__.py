@@ -41,6 +41,8 @@ from __future__ import annotations
 import json as _json
 import os as _os
 from typing import Any as _Any
+from typing import Mapping as _Mapping
+from typing import Sequence as _Sequence
 
 import numpy as _np
 
@@ -213,6 +215,11 @@ class Batch(_Named, _hopsim.Batch):
     whether each brake locks ``θ̇_body = θ̇_other`` in the copy's steps, and ``switches``
     (n, ns), whether each shape is on; a step that brakes or switches takes them in place
     of the scene's controller, as ``Simulation.step(actuation=…)`` does.
+
+    ``overrides=[{key: value, …}, …]`` (one mapping per copy) gives each copy its own
+    parameters (masses, friction, restitution, controller keys: domain randomisation): copy
+    ``i`` is then a simulation of ``scene.with_overrides(overrides[i])``, and every copy must
+    keep the scene's coordinates, actuators and shapes.
     """
 
     def __new__(
@@ -222,10 +229,12 @@ class Batch(_Named, _hopsim.Batch):
         threads: int | None = None,
         brakes: list[tuple[int, int]] | None = None,
         switches: list[int] | None = None,
+        overrides: _Sequence[_Mapping[str, _Any]] | None = None,
     ) -> "Batch":
         if isinstance(scene, Model):
             scene = scene.scene()
-        return super().__new__(cls, scene, n, threads, brakes, switches)
+        copies = None if overrides is None else [scene.with_overrides(o) for o in overrides]
+        return super().__new__(cls, scene, n, threads, brakes, switches, copies)
 
     def record(
         self,

@@ -173,6 +173,7 @@ class Batch:
         threads: Optional[int] = None,
         brakes: Optional[Sequence[Tuple[int, int]]] = None,
         switches: Optional[Sequence[int]] = None,
+        copies: Optional[Sequence[Scene]] = None,
     ) -> None: ...
     @property
     def scene(self) -> Scene: ...

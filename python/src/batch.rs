@@ -48,6 +48,8 @@ pub struct PyBatch {
     /// self` reach it without locking.
     batch: Mutex<Batch>,
     scene: Arc<Scene>,
+    /// Each copy's scene (the batch's scene with the copy's overrides, if any).
+    copies: Vec<Arc<Scene>>,
     py_scene: Py<PyScene>,
     t: Py<PyArray1<f64>>,
     q: Py<PyArray2<f64>>,
@@ -158,7 +160,7 @@ impl PyBatch {
 #[pymethods]
 impl PyBatch {
     #[new]
-    #[pyo3(signature = (scene, n, threads = None, brakes = None, switches = None))]
+    #[pyo3(signature = (scene, n, threads = None, brakes = None, switches = None, copies = None))]
     fn new(
         py: Python<'_>,
         scene: Bound<'_, PyScene>,
@@ -166,8 +168,21 @@ impl PyBatch {
         threads: Option<usize>,
         brakes: Option<Vec<(usize, usize)>>,
         switches: Option<Vec<usize>>,
+        copies: Option<Vec<Bound<'_, PyScene>>>,
     ) -> PyResult<Self> {
         let shared = scene.get().scene.clone();
+        // One scene per copy (domain randomisation), or the one scene shared.
+        let own = copies.is_some();
+        let copies: Vec<Arc<Scene>> = match copies {
+            Some(c) if c.len() != n => {
+                return Err(PyValueError::new_err(format!(
+                    "overrides: {} sets of overrides for {n} copies (one per copy)",
+                    c.len()
+                )))
+            }
+            Some(c) => c.iter().map(|s| s.get().scene.clone()).collect(),
+            None => vec![shared.clone(); n],
+        };
         let threads = threads.unwrap_or_else(|| {
             let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
             cores.min(n.max(1))
@@ -175,7 +190,13 @@ impl PyBatch {
         let (brakes, switches) = (brakes.unwrap_or_default(), switches.unwrap_or_default());
         let batch = guard(py, "Batch", || {
             let mut batch = py
-                .detach(|| Batch::new(&shared.setup, n, threads))
+                .detach(|| match own {
+                    true => Batch::of_setups(
+                        copies.iter().map(|s| Arc::new(s.setup.clone())).collect(),
+                        threads,
+                    ),
+                    false => Batch::new(&shared.setup, n, threads),
+                })
                 .map_err(batch_error)?;
             batch
                 .set_commands(&brakes, &switches)
@@ -200,6 +221,7 @@ impl PyBatch {
         let mut this = Self {
             batch: Mutex::new(batch),
             scene: shared,
+            copies,
             py_scene: scene.unbind(),
             t: t.unbind(),
             q: matrix(py, n, nq, false)?,
@@ -480,7 +502,6 @@ impl PyBatch {
         record_rate: Option<f64>,
         speed: String,
     ) -> PyResult<()> {
-        let scene = self.scene.clone();
         let batch = self.batch.get_mut().unwrap_or_else(|e| e.into_inner());
         let sim = batch.simulation(i).ok_or_else(|| {
             batch_error(BatchError::NoSuchCopy {
@@ -493,6 +514,7 @@ impl PyBatch {
                 "record: copy {i} is already being recorded; close that recording first"
             )));
         }
+        let scene = self.copies[i].clone();
         let watch = guard(py, "Batch.record", || {
             Watch::new(sim, &scene, &outputs, record_rate, &speed)
         })?;

@@ -123,3 +123,25 @@ def test_a_model_makes_a_batch():
     batch.step(100)
     # Free fall for 0.1 s: y = 1 - g t²/2 to round-off (the midpoint rule is exact here).
     assert batch.q[:, 1] == pytest.approx(1.0 - 0.5 * 9.81 * 0.1**2, abs=1e-12)
+
+
+def test_copies_with_their_own_overrides_equal_simulations_of_their_scenes(robbit_motor):
+    """Domain randomisation: each copy its own friction, restitution and controller torque;
+    copy i equals a simulation of the scene with copy i's overrides, bit for bit."""
+    overrides = [
+        {"environment.friction": 0.4 + 0.1 * i, "controller.torque": 0.02 * (i + 1),
+         "environment.restitution": 0.05 * (i % 3)}
+        for i in range(6)
+    ]
+    batch = hopsim.Batch(robbit_motor, 6, threads=2, overrides=overrides)
+    singles = [hopsim.Simulation(robbit_motor.with_overrides(o)) for o in overrides]
+    for _ in range(20):
+        batch.step(100)
+        for i, sim in enumerate(singles):
+            sim.step(100)
+            assert np.array_equal(batch.q[i], sim.q), i
+            assert np.array_equal(batch.u[i], sim.u), i
+    # Different parameters, different motions.
+    assert len({tuple(q) for q in batch.q}) == 6
+    with pytest.raises(ValueError, match="2 sets of overrides for 6 copies"):
+        hopsim.Batch(robbit_motor, 6, overrides=overrides[:2])
