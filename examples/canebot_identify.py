@@ -44,17 +44,22 @@ PARAMS = {
 }
 
 
-#: The ``targets`` search: the keys above, plus the links' masses and inertias and the foot's
-#: arc (its radius and half-extent, derived into the arc's keys by ``design``), within the
-#: bounds of a 0.3–0.4 m robot built from the thesis' parts.
+#: The ``targets`` search: the keys above but the cane's position, plus the links' masses and
+#: inertias, the joint's height, the foot's arc and the cane's place on it, within the bounds
+#: of a robot about 0.34 m long built from the thesis' parts. The foot is given by its length
+#: (the arc's chord, at most the robot's length) and radius; the cane by how far its tip
+#: protrudes radially beyond the arc and its angle from the arc's front end (negative:
+#: behind it): it stays at the foot's front tip. ``design`` turns them into scene keys.
 TARGET_PARAMS = {
-    **PARAMS,
+    **{k: v for k, v in PARAMS.items() if not k.startswith("shapes.cane.")},
     "bodies.lower.mass": (0.3, 0.55),           # kg: plywood foot, 70 W flat motor, gearbox
     "bodies.lower.inertia": (1.5e-3, 5e-3),     # kg m²
     "bodies.upper.inertia": (1.2e-3, 4e-3),     # kg m²: a 0.25–0.35 m bar
     "bodies.upper.pivot.1": (0.06, 0.14),       # m, the joint above the foot's centre of mass
     "foot_radius": (0.18, 0.5),                 # m, the arc's radius
-    "foot_extent": (0.3, 0.7),                  # rad, the arc's half-extent about straight down
+    "foot_length": (0.20, 0.34),                # m, the arc's chord: the foot's length
+    "cane_protrusion": (0.005, 0.04),           # m, the cane tip beyond the arc, radially
+    "cane_angle": (-0.15, 0.05),                # rad, the cane's angle from the arc's front end
 }
 
 #: The foot's lowest point below its centre of mass, m (as scenes/canebot-timed.toml).
@@ -67,20 +72,28 @@ SWEEP_FULL = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5)
 
 
 def design(values):
-    """Scene overrides of a point: the scene keys as they are, the foot's radius and
-    half-extent as the arc's centre, radius and end angles (the lowest point kept at
-    FOOT_DROP below the centre of mass)."""
+    """Scene overrides of a point: the scene keys as they are; the foot's radius and length
+    as the arc's centre, radius and end angles (the lowest point kept FOOT_DROP below the
+    centre of mass); the cane's protrusion and angle as its tip's position."""
     import math
 
-    out = {k: v for k, v in values.items() if not k.startswith("foot_")}
+    derived = ("foot_", "cane_")
+    out = {k: v for k, v in values.items() if not k.startswith(derived)}
     if "foot_radius" in values:
-        r, e = values["foot_radius"], values["foot_extent"]
+        r = values["foot_radius"]
+        e = math.asin(min(1.0, values["foot_length"] / (2.0 * r)))
+        cy = r - FOOT_DROP
         out.update({
             "shapes.foot.radius": r,
-            "shapes.foot.center.1": r - FOOT_DROP,
+            "shapes.foot.center.1": cy,
             "shapes.foot.start": -math.pi / 2 - e,
             "shapes.foot.end": -math.pi / 2 + e,
         })
+        if "cane_protrusion" in values:
+            a = -math.pi / 2 + e + values["cane_angle"]
+            d = r + values["cane_protrusion"]
+            out["shapes.cane.position.0"] = d * math.cos(a)
+            out["shapes.cane.position.1"] = cy + d * math.sin(a)
     return out
 
 
@@ -156,6 +169,26 @@ def targets(values):
 OBJECTIVES = {"gain": (gain, PARAMS), "targets": (targets, TARGET_PARAMS)}
 
 
+def robustness(values, params, objective, samples, spread=0.01, seed=0):
+    """The objective of ``samples`` designs around ``values``, each key moved by a uniform
+    relative ``spread`` (kept within its bounds): how much of the score survives the
+    tolerances of a built robot. Rejected designs score None."""
+    import random
+
+    rng = random.Random(seed)
+    scores = []
+    for _ in range(samples):
+        moved = {}
+        for key, (lo, hi) in params.items():
+            x = values[key] * (1.0 + rng.uniform(-spread, spread))
+            moved[key] = min(hi, max(lo, x))
+        try:
+            scores.append(objective(moved))
+        except ValueError:
+            scores.append(None)
+    return scores
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--population", type=int, default=12)
@@ -164,13 +197,25 @@ def main():
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--out", default="out/canebot-identify")
     parser.add_argument("--objective", choices=sorted(OBJECTIVES), default="gain")
+    parser.add_argument("--robustness", type=int, metavar="N",
+                        help="score N designs within ±1 %% of OUT/best.json's and stop")
     args = parser.parse_args()
+    objective, params = OBJECTIVES[args.objective]
+    if args.robustness:
+        with open(os.path.join(args.out, "best.json"), encoding="utf-8") as f:
+            best = json.load(f)["best"]
+        scores = robustness(best, params, objective, args.robustness)
+        kept = sorted(x for x in scores if x is not None)
+        print(f"best {objective(best):.3f}; {args.robustness} designs within ±1 %: "
+              f"{len(kept)} scored, median {kept[len(kept) // 2] if kept else float('nan'):.3f}, "
+              f"min {kept[0] if kept else float('nan'):.3f}, max {kept[-1] if kept else float('nan'):.3f}")
+        print(" ".join("rejected" if x is None else f"{x:.2f}" for x in scores))
+        return
     from distributed import Client, LocalCluster
 
     os.makedirs(args.out, exist_ok=True)
     with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
-        objective, params = OBJECTIVES[args.objective]
         result = hopsim.optimize(
             objective, params, maximize=True, population=args.population,
             generations=args.generations, seed=args.seed, client=client,

@@ -21,6 +21,8 @@ pub(super) struct LegendEntry {
     /// Marker radius and line width in pixels.
     pub(super) radius: i32,
     pub(super) width: u32,
+    /// A triangle marker points up (off-scale points above the plot) or down.
+    pub(super) up: bool,
 }
 
 impl LegendEntry {
@@ -31,6 +33,7 @@ impl LegendEntry {
             color,
             radius: dot_radius(series.style, series.size),
             width: px(series.size.max(1) as f64).max(1) as u32,
+            up: true,
         })
     }
 
@@ -41,6 +44,7 @@ impl LegendEntry {
             color,
             radius: px(7.0),
             width: 1,
+            up: true,
         }
     }
 }
@@ -106,7 +110,7 @@ pub(super) fn draw_legend_box<DB: DrawingBackend>(
             entry.radius,
             entry.width,
             entry.color,
-            true,
+            entry.up,
         )?;
         area.draw_text(
             &entry.label,
@@ -283,7 +287,7 @@ pub(super) fn draw_legend_row<DB: DrawingBackend>(
                 radius,
                 line,
                 entry.color,
-                true,
+                entry.up,
             )?;
             area.draw_text(&entry.label, &style, (x + symbol + px(4.0), y))
                 .map_err(|e| e.to_string())?;
@@ -306,6 +310,11 @@ pub(super) fn off_scale_entry(series: &[Series], y: &Axis) -> Option<LegendEntry
         .filter(|(px, py)| px.is_finite() && py.is_finite() && (*py < lo || *py > hi))
         .map(|p| y.scale().to_value(p.1))
         .collect();
+    // As the plot draws them: pointing out of its edge (all below: down).
+    let above = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .any(|(px, py)| px.is_finite() && py.is_finite() && *py > hi);
     let (lo, hi) = finite_range(off.iter().copied())?;
     let values = match lo == hi {
         true => three_significant_digits(lo),
@@ -322,5 +331,28 @@ pub(super) fn off_scale_entry(series: &[Series], y: &Axis) -> Option<LegendEntry
         color: OFF_SCALE_COLOR,
         radius: px(7.0),
         width: 1,
+        up: above,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plot::axis::Scale;
+
+    fn entry(ys: &[f64]) -> Option<LegendEntry> {
+        let points = ys.iter().enumerate().map(|(i, &y)| (i as f64, y)).collect();
+        let series = [Series::points("runs", points)];
+        off_scale_entry(&series, &Axis::new((0.0, 1.0), Scale::Linear))
+    }
+
+    #[test]
+    fn the_off_scale_triangle_points_the_way_the_plot_draws_it() {
+        assert!(entry(&[0.5, 0.2]).is_none());
+        let below = entry(&[0.5, -12.0]).unwrap();
+        assert!(!below.up);
+        assert_eq!(below.label, "1 point off scale, y = -12");
+        assert!(entry(&[0.5, 3.0]).unwrap().up);
+        assert!(entry(&[-2.0, 3.0]).unwrap().up);
+    }
 }

@@ -1,0 +1,77 @@
+"""scenes/canebot-identified.toml, the design the targets search found (docs/canebot.md,
+"The identified CaneBot"): its [meta] record rebuilds it from canebot-timed.toml, its gaits
+are the ones the docs report, and examples/canebot_mechanism.py tells its flights apart."""
+
+import importlib.util
+import tomllib
+
+import pytest
+
+import hopsim
+from conftest import REPO
+
+SCENE = REPO / "scenes" / "canebot-identified.toml"
+
+
+def example(name):
+    spec = importlib.util.spec_from_file_location(name, REPO / "examples" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def summary(scene, overrides=None):
+    if overrides:
+        scene = scene.with_overrides(overrides)
+    return hopsim.Simulation(scene).run(frames=False).summary
+
+
+def test_the_meta_record_rebuilds_the_scene_from_the_timed_cane_scene():
+    record = tomllib.loads(SCENE.read_text())["meta"]["search"]
+    identify = example("canebot_identify")
+    assert set(record["values"]) == set(identify.TARGET_PARAMS)
+    for key, value in record["values"].items():
+        lo, hi = identify.TARGET_PARAMS[key]
+        assert lo <= value <= hi, key
+    rebuilt = hopsim.Scene.load(
+        REPO / "scenes" / "canebot-timed.toml",
+        overrides={**identify.design(record["values"]), "controller.cane_schedule": "thesis"},
+    )
+    a, b = summary(rebuilt), summary(hopsim.Scene.load(SCENE))
+    # The same robot, bit for bit: the same hops and the same distance.
+    assert a["hops"] == b["hops"]
+    assert a["distance_m"] == b["distance_m"]
+
+
+def test_the_gaits_the_docs_report():
+    scene = hopsim.Scene.load(SCENE)
+    retracted = summary(scene, {"controller.cane_mode": "retracted"})
+    extended = summary(scene, {"controller.cane_mode": "extended"})
+    timed = summary(scene)
+    assert retracted["gait"]["period"] == 1
+    assert extended["gait"]["period"] == 2
+    assert extended["mean_speed_mps"] < retracted["mean_speed_mps"]
+    # The timed cane (0.1 / 0.5) ahead of both permanent cases per hop and in speed.
+    per_hop = timed["distance_per_hop_m"]
+    assert per_hop > 1.2 * max(retracted["distance_per_hop_m"], extended["distance_per_hop_m"])
+    assert timed["mean_speed_mps"] > retracted["mean_speed_mps"]
+
+
+@pytest.mark.parametrize("mode", ["retracted", "extended", "timed"])
+def test_every_flight_leaves_from_the_foot_or_the_cane(mode):
+    mechanism = example("canebot_mechanism")
+    scene = hopsim.Scene.load(SCENE, overrides={"controller.cane_mode": mode})
+    flights, held = mechanism.analyse(scene)
+    assert len(flights) >= 10
+    # The robot starts at rest on its foot: every flight has a last contact.
+    assert all(f["from"] in ("foot", "cane") for f in flights)
+    from_cane = sum(f["from"] == "cane" for f in flights)
+    if mode == "retracted":
+        # A retracted cane is not a contact: no flight can leave from it.
+        assert from_cane == 0
+    else:
+        assert from_cane > 0
+    if mode == "timed":
+        # One window per motor period of the 10 s run (the thesis' trigger, CD + CDC < 1).
+        assert len(held) == 28
+        assert all(0.0 <= h <= 0.5 / 2.8 for h in held.values())
