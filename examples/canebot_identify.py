@@ -13,6 +13,11 @@ Two objectives:
   sweeps (CDC = 0.5 and CDC = 1 over CD), scored on how many CDC = 0.5 points beat both
   permanent cases, where the peak lies, how many CDC = 1 points stay below, and how far
   the peak is from 8.4 cm.
+* ``robust``: the ``targets`` score averaged over the design and four designs within ±1 %
+  of it (a pattern that a robot built to tolerances keeps); five times the cost.
+
+``--start best.json --sigma 0.1`` starts at a design with a small step;
+``--robustness N`` scores N designs within ±1 % of ``OUT/best.json``'s and stops.
 
     python examples/canebot_identify.py --objective targets --population 16 --generations 60 \
         --out out/canebot-targets
@@ -24,6 +29,7 @@ again.
 import argparse
 import json
 import os
+import random
 from pathlib import Path
 
 import hopsim
@@ -166,24 +172,51 @@ def targets(values):
     return score + above + below + 0.5 * (0.05 <= peak_cd <= 0.2) + 0.5 * closeness
 
 
-OBJECTIVES = {"gain": (gain, PARAMS), "targets": (targets, TARGET_PARAMS)}
+#: The tolerance of a built robot: every key within ±1 % of its design value.
+TOLERANCE = 0.01
+#: The same four relative offsets for every design (common random numbers), so that the
+#: ``robust`` objective is a deterministic function of the design.
+OFFSETS = [
+    (lambda rng: {key: rng.uniform(-1.0, 1.0) for key in sorted(TARGET_PARAMS)})(random.Random(1000 + i))
+    for i in range(4)
+]
+
+
+def moved(values, offsets, params=TARGET_PARAMS, spread=TOLERANCE):
+    """``values`` with each key moved by ``spread`` times its offset in [-1, 1], within bounds."""
+    return {k: min(params[k][1], max(params[k][0], v * (1.0 + spread * offsets[k])))
+            for k, v in values.items()}
+
+
+def robust(values):
+    """The ``targets`` score averaged over the design and four designs within ±1 % of it
+    (``OFFSETS``; a rejected one scores 0): a design whose pattern a built robot keeps."""
+    scores = []
+    for point in [values] + [moved(values, o) for o in OFFSETS]:
+        try:
+            scores.append(targets(point))
+        except ValueError:
+            scores.append(0.0)
+    return sum(scores) / len(scores)
+
+
+OBJECTIVES = {
+    "gain": (gain, PARAMS),
+    "targets": (targets, TARGET_PARAMS),
+    "robust": (robust, TARGET_PARAMS),
+}
 
 
 def robustness(values, params, objective, samples, spread=0.01, seed=0):
     """The objective of ``samples`` designs around ``values``, each key moved by a uniform
     relative ``spread`` (kept within its bounds): how much of the score survives the
     tolerances of a built robot. Rejected designs score None."""
-    import random
-
     rng = random.Random(seed)
     scores = []
     for _ in range(samples):
-        moved = {}
-        for key, (lo, hi) in params.items():
-            x = values[key] * (1.0 + rng.uniform(-spread, spread))
-            moved[key] = min(hi, max(lo, x))
+        offsets = {key: rng.uniform(-1.0, 1.0) for key in sorted(params)}
         try:
-            scores.append(objective(moved))
+            scores.append(objective(moved(values, offsets, params, spread)))
         except ValueError:
             scores.append(None)
     return scores
@@ -197,6 +230,10 @@ def main():
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--out", default="out/canebot-identify")
     parser.add_argument("--objective", choices=sorted(OBJECTIVES), default="gain")
+    parser.add_argument("--start", metavar="JSON",
+                        help="start the search at the design `best` of this file (a best.json)")
+    parser.add_argument("--sigma", type=float, default=0.3,
+                        help="CMA-ES's initial step, a fraction of each key's range")
     parser.add_argument("--robustness", type=int, metavar="N",
                         help="score N designs within ±1 %% of OUT/best.json's and stop")
     args = parser.parse_args()
@@ -213,12 +250,18 @@ def main():
         return
     from distributed import Client, LocalCluster
 
+    start = None
+    if args.start:
+        with open(args.start, encoding="utf-8") as f:
+            start = json.load(f)["best"]
+
     os.makedirs(args.out, exist_ok=True)
     with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
         result = hopsim.optimize(
             objective, params, maximize=True, population=args.population,
-            generations=args.generations, seed=args.seed, client=client,
+            generations=args.generations, seed=args.seed, client=client, start=start,
+            sigma=args.sigma,
             checkpoint=os.path.join(args.out, "search.json"), out=args.out, name=args.objective,
         )
     print(result.text)

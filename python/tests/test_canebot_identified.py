@@ -75,3 +75,47 @@ def test_every_flight_leaves_from_the_foot_or_the_cane(mode):
         # One window per motor period of the 10 s run (the thesis' trigger, CD + CDC < 1).
         assert len(held) == 28
         assert all(0.0 <= h <= 0.5 / 2.8 for h in held.values())
+        # The documented mechanism (docs/canebot.md): the trigger finds the tip in the
+        # ground in every period and the cane comes out about 0.12 s later.
+        assert all(0.08 < h < 0.16 for h in held.values()), held
+
+
+def test_figure_6_5_keeps_every_run_and_draws_both_panels(tmp_path):
+    import csv
+    import subprocess
+    import sys
+
+    script = REPO / "examples" / "canebot_figure_6_5.py"
+    subprocess.run([sys.executable, str(script), str(SCENE), "--out", str(tmp_path)], check=True,
+                   capture_output=True, text=True)
+    with open(tmp_path / "figure-6-5.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    figure = example("canebot_figure_6_5")
+    grid = [r for r in rows if r["label"] == "grid"]
+    assert len(grid) == len(figure.HALF_DELAYS) + len(figure.FULL_DELAYS)
+    assert sorted(r["label"] for r in rows if r["label"] != "grid") == ["extended", "retracted"]
+    assert all(r["status"] == "ok" for r in rows)
+    # The CSV's runs are the scene's: the retracted baseline is the retracted run.
+    retracted = next(r for r in rows if r["label"] == "retracted")
+    run = summary(hopsim.Scene.load(SCENE), {"controller.cane_mode": "retracted"})
+    assert float(retracted["distance_per_hop_m"]) == pytest.approx(run["distance_per_hop_m"], rel=1e-12)
+    for ext in ("png", "svg"):
+        assert (tmp_path / f"figure-6-5.{ext}").stat().st_size > 10_000
+
+
+def test_the_tolerance_moves_each_key_on_its_own_within_its_bounds():
+    identify = example("canebot_identify")
+    record = tomllib.loads(SCENE.read_text())["meta"]["search"]["values"]
+    for offsets in identify.OFFSETS:
+        # Each key its own offset (not one shared draw), each within [-1, 1].
+        assert len(set(offsets.values())) == len(offsets)
+        assert all(-1.0 <= o <= 1.0 for o in offsets.values())
+        moved = identify.moved(record, offsets)
+        for key, value in moved.items():
+            lo, hi = identify.TARGET_PARAMS[key]
+            assert lo <= value <= hi
+            assert abs(value - record[key]) <= identify.TOLERANCE * abs(record[key]) + 1e-15
+    # A key on its bound stays on it when pushed out.
+    at_bound = dict(record, foot_length=0.34)
+    pushed = identify.moved(at_bound, {k: 1.0 for k in record})
+    assert pushed["foot_length"] == 0.34
