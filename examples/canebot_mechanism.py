@@ -4,14 +4,16 @@ docs/canebot.md "The mechanism"), and the cane extensions the ground held back.
 * **pole vault** (case c): the cane is the last contact before take-off (the body
   rotated about the cane tip into the flight);
 * **foot** (cases a and b): the foot's arc is the last contact; the foot's mean angular
-  velocity in the flight tells a strong backward rotation (b) from a slight one (a);
+  velocity in the flight is printed (a strong backward rotation is (b), a slight one (a));
 * **blocked**: the thesis' trigger asked for the cane but its tip was in the ground, so the
-  extension waited (the switch stayed off while the schedule said out).
+  extension waited: the controller's rule (the tip's gap above the flat ground > 0)
+  replayed from the state at the start of each step.
 
     python examples/canebot_mechanism.py scenes/canebot-identified.toml
     python examples/canebot_mechanism.py scenes/canebot-identified.toml --set controller.cane_mode=extended
 
-Prints one line per case and the counts; ``--json`` writes them for a test or a notebook.
+Prints each held-back extension and each flight, then the counts; ``--json`` writes them
+for a test or a notebook. Flat terrain only (the tip's gap is its height).
 """
 
 import argparse
