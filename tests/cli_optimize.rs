@@ -67,14 +67,24 @@ fn writes_every_evaluation_a_figure_and_a_checkpoint() {
         "{}",
         stderr(&again)
     );
-    // Another problem (more generations) does not resume this checkpoint.
-    let other = run(command(&scene, &out, 4).arg("--resume"));
+    // Another problem (another bound) does not resume this checkpoint.
+    let other = run(command(&scene, &out, 3)
+        .args(["--param", "initial.q.1=0:0.1"])
+        .arg("--resume"));
     assert_eq!(other.status.code(), Some(2));
     assert!(
         stderr(&other).contains("another search"),
         "{}",
         stderr(&other)
     );
+    // More generations extend it: the evaluations of a search planned for 4.
+    let extended = run(command(&scene, &out, 4).arg("--resume"));
+    assert!(extended.status.success(), "{}", stderr(&extended));
+    let planned_out = dir.path().join("planned");
+    assert!(run(&mut command(&scene, &planned_out, 4)).status.success());
+    let rows = |dir: &Path| std::fs::read_to_string(dir.join("evaluations.csv")).unwrap();
+    assert_eq!(rows(&out).lines().count(), 1 + 16);
+    assert_eq!(rows(&out), rows(&planned_out));
     // A misspelt key is one error before any run.
     let bad = run(Command::new(env!("CARGO_BIN_EXE_hopsim"))
         .arg("optimize")

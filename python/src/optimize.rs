@@ -69,12 +69,16 @@ impl PySearch {
     /// (`ValueError`) unless its problem is that of `self`.
     fn resumed(&self, text: &str) -> PyResult<PySearch> {
         let checkpoint: Checkpoint = serde_json::from_str(text).map_err(value_error)?;
-        if &checkpoint.problem != self.search.problem() {
+        let problem = self.search.problem();
+        if !checkpoint.problem.same_search(problem) {
             return Err(PyValueError::new_err(
-                "the checkpoint was written by another search (parameters, goal or settings differ)",
+                "the checkpoint was written by another search (parameters, goal or settings \
+                 differ; another number of generations extends or ends it)",
             ));
         }
-        let search = Search::resume(checkpoint).map_err(value_error)?;
+        let search = Search::resume(checkpoint)
+            .and_then(|s| s.with_max_generations(problem.max_generations))
+            .map_err(value_error)?;
         Ok(PySearch { search })
     }
 

@@ -109,6 +109,17 @@ def test_an_interrupted_search_resumes_to_the_uninterrupted_one(projectile, tmp_
         hopsim.optimize(throw(projectile), PARAMS, checkpoint=path, name="other", **kwargs)
 
 
+def test_a_finished_search_extends_to_a_longer_one(projectile, tmp_path):
+    kwargs = dict(maximize=True, population=6, seed=3, name="throw")
+    path = str(tmp_path / "search.json")
+    short = hopsim.optimize(throw(projectile), PARAMS, checkpoint=path, generations=3, **kwargs)
+    assert short.generations == 3
+    longer = hopsim.optimize(throw(projectile), PARAMS, checkpoint=path, generations=5, **kwargs)
+    planned = hopsim.optimize(throw(projectile), PARAMS, generations=5, **kwargs)
+    assert longer.generations == 5
+    assert longer.evaluations == planned.evaluations
+
+
 def test_matches_the_command_line(hopsim_bin, projectile, tmp_path):
     out = tmp_path / "cli"
     subprocess.run(

@@ -131,15 +131,16 @@ pub fn run_command(args: OptimizeArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::from(exit::INVALID_INPUT));
         }
         let saved = read_checkpoint(&checkpoint)?;
-        if saved.problem != problem {
+        if !saved.problem.same_search(&problem) {
             eprintln!(
                 "error: {} was written by another search (parameters, goal, settings, scene \
-                 or overrides differ); give the same command, or choose another --out",
+                 or overrides differ); give the same command (another --generations extends \
+                 or ends it), or choose another --out",
                 checkpoint.display()
             );
             return Ok(ExitCode::from(exit::INVALID_INPUT));
         }
-        let search = Search::resume(saved)?;
+        let search = Search::resume(saved)?.with_max_generations(problem.max_generations)?;
         if !args.quiet && !args.json {
             eprintln!(
                 "resuming after generation {} of {}",

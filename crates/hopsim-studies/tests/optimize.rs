@@ -248,6 +248,51 @@ fn a_resumed_search_is_the_uninterrupted_one() {
     );
 }
 
+/// A finished search of 5 generations, resumed for 9, gives the evaluations of a search
+/// planned for 9 from the start; resumed for 3 it has ended, with its 5 kept.
+#[test]
+fn a_finished_search_extends_to_the_longer_one() {
+    let f = |x: &[f64]| -> Outcome { Ok((x[0] - 0.3).powi(2) + x[1].abs()) };
+    let p = problem(parameters(&[(-2.0, 2.0); 2]), Direction::Minimize, 5);
+    let short = search(p.clone(), f);
+    assert_eq!(short.stop, Some(Stop::MaxGenerations));
+    let long = search(
+        Problem {
+            max_generations: 9,
+            ..p.clone()
+        },
+        f,
+    );
+    let mut finished = Search::new(p.clone()).unwrap();
+    run(&mut finished, &FunctionObjective(f), &Silent, None, None).unwrap();
+    let saved = finished.checkpoint();
+    assert!(saved.problem.same_search(&Problem {
+        max_generations: 9,
+        ..p.clone()
+    }));
+    assert!(!saved.problem.same_search(&Problem {
+        seed: 8,
+        ..p.clone()
+    }));
+
+    let mut extended = Search::resume(saved.clone())
+        .unwrap()
+        .with_max_generations(9)
+        .unwrap();
+    let rest = run(&mut extended, &FunctionObjective(f), &Silent, None, None).unwrap();
+    assert_eq!(rest.generations, long.generations);
+    assert_eq!(rest.best, long.best);
+
+    let mut ended = Search::resume(saved)
+        .unwrap()
+        .with_max_generations(3)
+        .unwrap();
+    assert_eq!(ended.ask().unwrap(), None);
+    assert_eq!(ended.stopped(), Some(&Stop::MaxGenerations));
+    assert_eq!(ended.generations(), &short.generations[..]);
+    assert!(Search::new(p).unwrap().with_max_generations(0).is_err());
+}
+
 /// A checkpoint of another search (another seed) is refused when it is resumed.
 #[test]
 fn a_checkpoint_of_another_search_is_refused() {

@@ -123,6 +123,19 @@ pub struct Problem {
     pub objective: String,
 }
 
+impl Problem {
+    /// Whether `other` is this search, perhaps planned for another number of generations
+    /// (a checkpoint of it can be resumed, and extended, with
+    /// [`Search::with_max_generations`](super::search::Search::with_max_generations)).
+    pub fn same_search(&self, other: &Problem) -> bool {
+        let planned = Problem {
+            max_generations: self.max_generations,
+            ..other.clone()
+        };
+        *self == planned
+    }
+}
+
 /// Default of [`Problem::sigma`]: 0.3 of each span.
 pub const DEFAULT_SIGMA: f64 = 0.3;
 

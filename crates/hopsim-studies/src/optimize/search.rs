@@ -181,7 +181,34 @@ impl Search {
         let replayed = search.replay()?;
         search.stop = replayed.stop;
         search.pending = Some(replayed.next);
+        search.stop_at_most_generations();
         Ok(search)
+    }
+
+    /// The same search run to `generations` in all: more than its checkpoint's to extend
+    /// it (CMA-ES' state does not depend on the planned number, so the extension gives the
+    /// evaluations of a search planned that long from the start), fewer to end it there.
+    pub fn with_max_generations(mut self, generations: usize) -> Result<Self, SearchError> {
+        if generations == 0 {
+            return Err(SearchError::Invalid(
+                "generations must be at least 1".into(),
+            ));
+        }
+        self.problem.max_generations = generations;
+        if self.stop == Some(Stop::MaxGenerations) {
+            // Ended by the old plan only: the next generation is sampled when asked for.
+            self.stop = None;
+            self.pending = None;
+        }
+        self.stop_at_most_generations();
+        Ok(self)
+    }
+
+    /// Ends a search that has run its `max_generations` (and has not ended otherwise).
+    fn stop_at_most_generations(&mut self) {
+        if self.stop.is_none() && self.generations.len() >= self.problem.max_generations {
+            self.stop = Some(Stop::MaxGenerations);
+        }
     }
 
     pub fn problem(&self) -> &Problem {
@@ -249,9 +276,7 @@ impl Search {
             })
             .collect();
         self.generations.push(generation);
-        if self.generations.len() >= self.problem.max_generations {
-            self.stop = Some(Stop::MaxGenerations);
-        }
+        self.stop_at_most_generations();
         Ok(())
     }
 
