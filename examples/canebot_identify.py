@@ -176,10 +176,12 @@ def targets(values):
 TOLERANCE = 0.01
 #: The same four relative offsets for every design (common random numbers), so that the
 #: ``robust`` objective is a deterministic function of the design.
-OFFSETS = [
-    (lambda rng: {key: rng.uniform(-1.0, 1.0) for key in sorted(TARGET_PARAMS)})(random.Random(1000 + i))
-    for i in range(4)
-]
+def offsets(rng, keys):
+    """One relative offset in [-1, 1] per key, drawn from ``rng`` in the keys' sorted order."""
+    return {key: rng.uniform(-1.0, 1.0) for key in sorted(keys)}
+
+
+OFFSETS = [offsets(random.Random(1000 + i), TARGET_PARAMS) for i in range(4)]
 
 
 def moved(values, offsets, params=TARGET_PARAMS, spread=TOLERANCE):
@@ -214,9 +216,8 @@ def robustness(values, params, objective, samples, spread=0.01, seed=0):
     rng = random.Random(seed)
     scores = []
     for _ in range(samples):
-        offsets = {key: rng.uniform(-1.0, 1.0) for key in sorted(params)}
         try:
-            scores.append(objective(moved(values, offsets, params, spread)))
+            scores.append(objective(moved(values, offsets(rng, params), params, spread)))
         except ValueError:
             scores.append(None)
     return scores
